@@ -1,0 +1,228 @@
+#include "physics/vehicle.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "physics/ackermann.hpp"
+#include "physics/servo.hpp"
+
+namespace sear {
+namespace {
+
+constexpr double kSpawnClearance_m = 0.002;  // dropped from just above the ground so it settles at once
+constexpr double kSteerGain_per_s = 20.0;    // steering joint's position loop, fast against servo slew rates
+// Hinge-2 suspension of steered wheels, as spring and damper: stiff enough to feel rigid.
+constexpr double kSuspensionStiffness_Npm = 20000.0;
+constexpr double kSuspensionDamping_Nspm = 200.0;
+
+Eigen::Vector3d to_eigen(const dReal* v) { return {v[0], v[1], v[2]}; }
+
+Eigen::Matrix3d rotation_of(dBodyID body) {
+  const dReal* r = dBodyGetRotation(body);  // 3x4, row-major
+  Eigen::Matrix3d m;
+  m << r[0], r[1], r[2], r[4], r[5], r[6], r[8], r[9], r[10];
+  return m;
+}
+
+void set_rotation(dBodyID body, const Eigen::Matrix3d& m) {
+  dMatrix3 r = {m(0, 0), m(0, 1), m(0, 2), 0, m(1, 0), m(1, 1), m(1, 2), 0, m(2, 0), m(2, 1), m(2, 2), 0};
+  dBodySetRotation(body, r);
+}
+
+}  // namespace
+
+Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
+    : physics_(physics),
+      desc_(desc),
+      entity_(physics.add_entity(desc.name)),
+      motor_commands_(desc.motors.size()),
+      servo_pulses_(desc.servos.size()),
+      servo_angles_(desc.servos.size(), 0.0) {
+  for (std::size_t i = 0; i < desc.servos.size(); ++i) servo_pulses_[i] = servo_center_pulse_us(desc.servos[i]);
+
+  // Lowest point of the robot below its chassis origin decides how high it starts.
+  double lowest = -0.5 * desc.chassis.size_m.z();
+  for (const auto& w : desc.wheels) lowest = std::min(lowest, w.position_m.z() - w.radius_m);
+  for (const auto& c : desc.casters) lowest = std::min(lowest, c.position_m.z() - c.radius_m);
+  const Eigen::Vector2d xy = desc.start_xy_m;
+  const Eigen::Vector3d origin(xy.x(), xy.y(), physics.terrain_height(xy.x(), xy.y()) - lowest + kSpawnClearance_m);
+  const Eigen::Matrix3d yaw = Eigen::AngleAxisd(desc.start_yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+
+  chassis_ = dBodyCreate(physics.world());
+  dMass mass;
+  // A mesh chassis takes the inertia of its bounding box: a mesh need not be closed, and the
+  // box is within a few percent for the compact chassis small robots have.
+  dMassSetBoxTotal(&mass, desc.chassis.mass_kg, desc.chassis.size_m.x(), desc.chassis.size_m.y(),
+                   desc.chassis.size_m.z());
+  dBodySetMass(chassis_, &mass);
+  dBodySetPosition(chassis_, origin.x(), origin.y(), origin.z());
+  set_rotation(chassis_, yaw);
+  const int chassis_material = physics.material_index(desc.chassis.material);
+  dGeomID hull = desc.chassis.shape == ChassisDesc::Shape::Box
+                     ? dCreateBox(physics.dynamic_space(), desc.chassis.size_m.x(), desc.chassis.size_m.y(),
+                                  desc.chassis.size_m.z())
+                     : dCreateTriMesh(physics.dynamic_space(), physics.add_mesh_data(desc.chassis.mesh), nullptr,
+                                      nullptr, nullptr);
+  dGeomSetBody(hull, chassis_);
+  physics.tag(hull, GeomRole::Chassis, entity_, chassis_material);
+
+  for (const auto& c : desc.casters) {
+    dGeomID ball = dCreateSphere(physics.dynamic_space(), c.radius_m);
+    dGeomSetBody(ball, chassis_);
+    dGeomSetOffsetPosition(ball, c.position_m.x(), c.position_m.y(), c.position_m.z());
+    physics.tag(ball, GeomRole::Caster, entity_, chassis_material);
+  }
+
+  // ODE cylinders run along their local Z; -90 degrees about X lays that along the robot's +Y (left).
+  const Eigen::Matrix3d wheel_rotation = yaw * Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Vector3d up = yaw * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d left = yaw * Eigen::Vector3d::UnitY();
+  double fastest_motor = 10.0;
+  for (const auto& m : desc.motors) fastest_motor = std::max(fastest_motor, m.no_load_speed_radps);
+  for (const auto& s : desc.servos) fastest_motor = std::max(fastest_motor, s.speed_radps);
+
+  for (const auto& w : desc.wheels) {
+    Wheel wheel{};
+    wheel.steered = w.steered;
+    wheel.body = dBodyCreate(physics.world());
+    dMass wm;
+    dMassSetCylinderTotal(&wm, w.mass_kg, 3, w.radius_m, w.width_m);
+    dBodySetMass(wheel.body, &wm);
+    const Eigen::Vector3d centre = origin + yaw * w.position_m;
+    dBodySetPosition(wheel.body, centre.x(), centre.y(), centre.z());
+    set_rotation(wheel.body, wheel_rotation);
+    // A fast wheel spins many radians per step: integrate its spin exactly about the axle.
+    dBodySetFiniteRotationMode(wheel.body, 1);
+    dBodySetMaxAngularSpeed(wheel.body, 10.0 * fastest_motor);
+    dGeomID tyre = dCreateCylinder(physics.dynamic_space(), w.radius_m, w.width_m);
+    dGeomSetBody(tyre, wheel.body);
+    physics.tag(tyre, GeomRole::Wheel, entity_, physics.material_index(w.material));
+
+    if (w.steered) {
+      wheel.joint = dJointCreateHinge2(physics.world(), nullptr);
+      dJointAttach(wheel.joint, chassis_, wheel.body);
+      dJointSetHinge2Anchor(wheel.joint, centre.x(), centre.y(), centre.z());
+      const dReal axis1[3] = {up.x(), up.y(), up.z()};
+      const dReal axis2[3] = {left.x(), left.y(), left.z()};
+      dJointSetHinge2Axes(wheel.joint, axis1, axis2);
+      const double h = physics.step_s();
+      const double denominator = h * kSuspensionStiffness_Npm + kSuspensionDamping_Nspm;
+      dJointSetHinge2Param(wheel.joint, dParamSuspensionERP, h * kSuspensionStiffness_Npm / denominator);
+      dJointSetHinge2Param(wheel.joint, dParamSuspensionCFM, 1.0 / denominator);
+    } else {
+      wheel.joint = dJointCreateHinge(physics.world(), nullptr);
+      dJointAttach(wheel.joint, wheel.body, chassis_);
+      dJointSetHingeAnchor(wheel.joint, centre.x(), centre.y(), centre.z());
+      dJointSetHingeAxis(wheel.joint, left.x(), left.y(), left.z());
+    }
+    wheels_.push_back(wheel);
+  }
+
+  // Gearbox friction holds each driven wheel until the torque on it exceeds its share.
+  for (const auto& m : desc.motors) {
+    const double share = m.gear_friction_nm / static_cast<double>(m.wheels.size());
+    for (const auto& name : m.wheels) {
+      const Wheel& wheel = wheels_[wheel_index(name)];
+      if (wheel.steered) {
+        dJointSetHinge2Param(wheel.joint, dParamVel2, 0);
+        dJointSetHinge2Param(wheel.joint, dParamFMax2, share);
+      } else {
+        dJointSetHingeParam(wheel.joint, dParamVel, 0);
+        dJointSetHingeParam(wheel.joint, dParamFMax, share);
+      }
+    }
+  }
+
+  if (desc.drive == DriveKind::Ackermann) {
+    double steered_x = 0, driven_x = 0;
+    for (const auto& w : desc.wheels) (w.steered ? steered_x : driven_x) += 0.5 * w.position_m.x();
+    wheelbase_m_ = std::abs(steered_x - driven_x);
+  }
+}
+
+std::size_t Vehicle::wheel_index(const std::string& name) const {
+  for (std::size_t i = 0; i < desc_.wheels.size(); ++i)
+    if (desc_.wheels[i].name == name) return i;
+  return 0;  // unreachable: the loader checked every wheel name
+}
+
+int Vehicle::motor_index(const std::string& name) const {
+  for (std::size_t i = 0; i < desc_.motors.size(); ++i)
+    if (desc_.motors[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+int Vehicle::servo_index(const std::string& name) const {
+  for (std::size_t i = 0; i < desc_.servos.size(); ++i)
+    if (desc_.servos[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+Eigen::Vector3d Vehicle::axle_world(std::size_t wheel) const {
+  return rotation_of(wheels_[wheel].body).col(2);
+}
+
+double Vehicle::wheel_speed(std::size_t wheel) const {
+  const Eigen::Vector3d relative =
+      to_eigen(dBodyGetAngularVel(wheels_[wheel].body)) - to_eigen(dBodyGetAngularVel(chassis_));
+  return relative.dot(axle_world(wheel));
+}
+
+void Vehicle::apply_actuators(double dt_s) {
+  for (std::size_t i = 0; i < wheels_.size(); ++i) {
+    const Eigen::Vector3d axle = axle_world(i);
+    dBodySetFiniteRotationAxis(wheels_[i].body, axle.x(), axle.y(), axle.z());
+  }
+
+  // A motor driving several wheels (a chain, or an open differential) turns at their mean speed
+  // and splits its torque evenly between them.
+  for (std::size_t m = 0; m < desc_.motors.size(); ++m) {
+    const MotorDesc& motor = desc_.motors[m];
+    double omega = 0;
+    for (const auto& name : motor.wheels) omega += wheel_speed(wheel_index(name));
+    omega /= static_cast<double>(motor.wheels.size());
+    const double share = dc_motor_torque(motor, motor_commands_[m], omega) / static_cast<double>(motor.wheels.size());
+    for (const auto& name : motor.wheels) {
+      const std::size_t w = wheel_index(name);
+      const Eigen::Vector3d torque = share * axle_world(w);
+      dBodyAddTorque(wheels_[w].body, torque.x(), torque.y(), torque.z());
+      dBodyAddTorque(chassis_, -torque.x(), -torque.y(), -torque.z());
+    }
+  }
+
+  for (std::size_t s = 0; s < desc_.servos.size(); ++s) {
+    const ServoDesc& servo = desc_.servos[s];
+    if (servo.kind == ServoDesc::Kind::Continuous) {
+      const double speed = servo_target_speed(servo, servo_pulses_[s]);
+      for (const auto& name : servo.wheels) {
+        const Wheel& wheel = wheels_[wheel_index(name)];
+        dJointSetHingeParam(wheel.joint, dParamVel, speed);
+        dJointSetHingeParam(wheel.joint, dParamFMax, servo.torque_nm);
+      }
+      continue;
+    }
+    servo_angles_[s] = servo_slew(servo, servo_angles_[s], servo_target_angle(servo, servo_pulses_[s]), dt_s);
+    for (const auto& name : servo.wheels) {
+      const std::size_t w = wheel_index(name);
+      const double target = ackermann_wheel_angle(servo_angles_[s], wheelbase_m_, desc_.wheels[w].position_m.y());
+      const double error = target - dJointGetHinge2Angle1(wheels_[w].joint);
+      const double limit = 2.0 * servo.speed_radps;
+      dJointSetHinge2Param(wheels_[w].joint, dParamVel, std::clamp(kSteerGain_per_s * error, -limit, limit));
+      dJointSetHinge2Param(wheels_[w].joint, dParamFMax, servo.torque_nm);
+    }
+  }
+}
+
+VehicleState Vehicle::state() const {
+  VehicleState s;
+  s.position_m = to_eigen(dBodyGetPosition(chassis_));
+  const Eigen::Matrix3d r = rotation_of(chassis_);
+  s.roll_pitch_yaw = {std::atan2(r(2, 1), r(2, 2)), -std::asin(std::clamp(r(2, 0), -1.0, 1.0)),
+                      std::atan2(r(1, 0), r(0, 0))};
+  s.velocity_mps = to_eigen(dBodyGetLinearVel(chassis_));
+  s.angular_velocity = to_eigen(dBodyGetAngularVel(chassis_));
+  s.forward_speed_mps = s.velocity_mps.dot(r.col(0));
+  return s;
+}
+
+}  // namespace sear

@@ -1,0 +1,64 @@
+// One robot in the ODE world: chassis, wheels on hinges (hinge-2 where steered), ball casters,
+// and its actuators, DC motors and servos, which turn commands into joint torques each step.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "physics/dc_motor.hpp"
+#include "physics/physics_world.hpp"
+
+namespace sear {
+
+struct VehicleState {
+  Eigen::Vector3d position_m;        // chassis origin, world frame
+  Eigen::Vector3d roll_pitch_yaw;    // rad, Z-Y-X Euler angles of the chassis
+  Eigen::Vector3d velocity_mps;      // world frame
+  Eigen::Vector3d angular_velocity;  // rad/s, world frame
+  double forward_speed_mps;          // along the chassis x axis
+};
+
+class Vehicle {
+ public:
+  // Places the robot at its start pose, resting just above the terrain.
+  Vehicle(PhysicsWorld& physics, const RobotDesc& desc);
+
+  const RobotDesc& desc() const { return desc_; }
+  int entity() const { return entity_; }
+
+  int motor_index(const std::string& name) const;  // -1 when there is none
+  int servo_index(const std::string& name) const;
+  void command_motor(std::size_t motor, const DcMotorCommand& command) { motor_commands_[motor] = command; }
+  void command_servo(std::size_t servo, double pulse_us) { servo_pulses_[servo] = pulse_us; }
+  const DcMotorCommand& motor_command(std::size_t motor) const { return motor_commands_[motor]; }
+  double servo_pulse(std::size_t servo) const { return servo_pulses_[servo]; }
+
+  // Before each physics step: actuator torques and the wheels' finite-rotation axes.
+  void apply_actuators(double dt_s);
+
+  VehicleState state() const;
+  // Spin of a wheel about its axle relative to the chassis, rad/s, positive rolling forward.
+  double wheel_speed(std::size_t wheel) const;
+
+ private:
+  struct Wheel {
+    dBodyID body;
+    dJointID joint;
+    bool steered;
+  };
+  Eigen::Vector3d axle_world(std::size_t wheel) const;
+  std::size_t wheel_index(const std::string& name) const;
+
+  const PhysicsWorld& physics_;
+  RobotDesc desc_;
+  int entity_;
+  dBodyID chassis_;
+  std::vector<Wheel> wheels_;
+  std::vector<DcMotorCommand> motor_commands_;
+  std::vector<double> servo_pulses_;
+  std::vector<double> servo_angles_;  // positional servos' present output angle
+  double wheelbase_m_ = 0;            // Ackermann: steered axle to driven axle
+};
+
+}  // namespace sear

@@ -1,0 +1,189 @@
+// What a user described in project, world and robot files, after validation: plain data that
+// the physics layer builds a live world from. Frames: world x east, y north, z up (ENU); robot
+// x forward, y left, z up. Units SI (m, s, rad, kg, N*m); angles given in degrees in files are
+// converted to radians here.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene/geodetic.hpp"
+
+namespace sear {
+
+// Where a part was described, so that later checks can point at it.
+struct SourceRef {
+  std::string file;
+  int line = 0;
+};
+
+// Triangles in metres, Z up, counter-clockwise seen from outside.
+struct TriangleMesh {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<std::uint32_t> indices;  // three per triangle
+};
+
+struct Material {
+  std::string name;
+  double friction = 0.8;  // Coulomb coefficient; a contact uses the lower of its two materials'
+  double bounce = 0.0;    // restitution, 0..1
+};
+
+enum class TerrainKind { Flat, Heightmap, Mesh };
+
+struct TerrainDesc {
+  TerrainKind kind = TerrainKind::Flat;
+  std::string material = "default";
+  // Heightmap: `columns` x `rows` samples, row 0 is the north edge, heights in metres,
+  // spanning size_m centred on the world origin.
+  int columns = 0;
+  int rows = 0;
+  std::vector<double> heights_m;
+  Eigen::Vector2d size_m{0, 0};
+  TriangleMesh mesh;  // Mesh terrain, already in world coordinates
+};
+
+struct BoxDesc {
+  std::string name;
+  Eigen::Vector3d size_m{1, 1, 1};
+  Eigen::Vector2d xy_m{0, 0};
+  double z_m = 0;            // centre height; ignored when on_ground
+  bool on_ground = true;     // rests on the terrain below its centre
+  double yaw_rad = 0;
+  double mass_kg = 0;        // 0: static
+  std::string material = "default";
+};
+
+struct TreeDesc {
+  std::string name;
+  Eigen::Vector2d xy_m{0, 0};
+  double trunk_radius_m = 0.1;
+  double trunk_height_m = 2.0;
+  double crown_radius_m = 0.8;  // a sphere centred on the top of the trunk
+  std::string material = "default";
+};
+
+struct WallDesc {
+  std::string name;
+  Eigen::Vector2d from_m{0, 0};
+  Eigen::Vector2d to_m{1, 0};
+  double height_m = 1.0;
+  double thickness_m = 0.1;
+  std::string material = "default";
+};
+
+struct MeshObstacleDesc {
+  std::string name;
+  Eigen::Vector2d xy_m{0, 0};
+  double yaw_rad = 0;
+  TriangleMesh mesh;  // robot-independent, base at z = 0; placed on the terrain
+  std::string material = "default";
+};
+
+struct WorldDesc {
+  Eigen::Vector3d gravity{0, 0, -9.81};
+  double step_s = 0.001;
+  GeoPoint gps_origin{0, 0, 0};
+  double magnetic_declination_rad = 0;  // east of true north is positive
+  std::vector<Material> materials;      // always holds "default"
+  TerrainDesc terrain;
+  std::vector<BoxDesc> boxes;
+  std::vector<TreeDesc> trees;
+  std::vector<WallDesc> walls;
+  std::vector<MeshObstacleDesc> meshes;
+};
+
+enum class DriveKind { Differential, SkidSteer, Ackermann };
+
+struct ChassisDesc {
+  enum class Shape { Box, Mesh } shape = Shape::Box;
+  Eigen::Vector3d size_m{0.3, 0.2, 0.08};  // box, or the mesh's bounding box once loaded
+  double mass_kg = 1.0;
+  std::string material = "default";
+  TriangleMesh mesh;
+};
+
+struct WheelDesc {
+  std::string name;
+  SourceRef source;
+  Eigen::Vector3d position_m{0, 0, 0};  // axle centre in the robot frame
+  double radius_m = 0.04;
+  double width_m = 0.02;
+  double mass_kg = 0.05;
+  bool steered = false;  // Ackermann front wheels
+  std::string material = "default";
+};
+
+// A ball caster: rolls freely in every direction, so its contacts carry no friction.
+struct CasterDesc {
+  Eigen::Vector3d position_m{0, 0, 0};
+  double radius_m = 0.02;
+};
+
+// A brushed DC gearmotor behind an H-bridge; figures at the gearbox output shaft, from the datasheet.
+struct MotorDesc {
+  std::string name;
+  SourceRef source;
+  std::vector<std::string> wheels;  // several wheels share its torque (chain, or open differential)
+  double stall_torque_nm = 0.5;
+  double no_load_speed_radps = 20;
+  double supply_voltage_v = 6;
+  double gear_friction_nm = 0;  // Coulomb friction of the gearbox, holds the wheels when unpowered
+};
+
+struct ServoDesc {
+  enum class Kind { Positional, Continuous } kind = Kind::Positional;
+  std::string name;
+  SourceRef source;
+  std::vector<std::string> wheels;  // continuous: the wheels it turns; positional: the wheels it steers
+  double min_pulse_us = 1000;
+  double max_pulse_us = 2000;
+  double range_rad = 1.0;           // positional: travel between min and max pulse
+  double speed_radps = 5.0;         // positional: slew rate; continuous: speed at full pulse
+  double torque_nm = 0.3;           // stall torque
+};
+
+enum class MotorDirection { Forward, Reverse, Brake, Coast };
+
+// One step of a robot's scripted command schedule.
+struct ScriptCommand {
+  SourceRef source;
+  double t_s = 0;
+  std::string actuator;
+  bool is_servo = false;
+  double duty = 0;  // motors, 0..1
+  MotorDirection direction = MotorDirection::Forward;
+  double pulse_us = 1500;  // servos
+};
+
+struct RobotDesc {
+  std::string name;
+  SourceRef source;  // the <robot> element in the project
+  Eigen::Vector2d start_xy_m{0, 0};
+  double start_yaw_rad = 0;  // counter-clockwise from east
+  ChassisDesc chassis;
+  DriveKind drive = DriveKind::Differential;
+  std::vector<WheelDesc> wheels;
+  std::vector<CasterDesc> casters;
+  std::vector<MotorDesc> motors;
+  std::vector<ServoDesc> servos;
+  std::vector<ScriptCommand> script;  // sorted by time
+};
+
+struct RunDesc {
+  double duration_s = 30;
+  std::uint64_t seed = 1;
+  double trace_rate_hz = 100;
+};
+
+struct ProjectDesc {
+  std::string file;
+  std::string name;
+  WorldDesc world;
+  std::vector<RobotDesc> robots;
+  RunDesc run;
+};
+
+}  // namespace sear

@@ -1,0 +1,31 @@
+// Pieces of the project loader shared between its files: one reader per top-level element.
+#pragma once
+
+#include <string>
+
+#include "scene/description.hpp"
+#include "scene/element_reader.hpp"
+
+namespace tinyxml2 {
+class XMLElement;
+}
+
+namespace sear {
+
+// A path written in `file`, taken relative to that file's folder.
+std::string path_beside(const std::string& file, const std::string& relative);
+
+void read_world(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
+                WorldDesc& world);
+
+// A <robot> element of a project: inline, or naming a robot file with file="...".
+void read_project_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
+                        const WorldDesc& world, RobotDesc& robot);
+
+void read_script(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
+                 std::vector<ScriptCommand>& script);
+
+// Cross-checks of one robot once all its parts are read (wiring, drive layout, script names).
+void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics);
+
+}  // namespace sear

@@ -1,0 +1,82 @@
+// Reads the project file: its <run> settings, the <world> and the <robot>s.
+#include "scene/project_loader.hpp"
+
+#include <fmt/format.h>
+#include <tinyxml2.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "scene/element_reader.hpp"
+#include "scene/loader_parts.hpp"
+
+namespace sear {
+
+std::string path_beside(const std::string& file, const std::string& relative) {
+  const std::filesystem::path rel(relative);
+  if (rel.is_absolute()) return rel.string();
+  return (std::filesystem::path(file).parent_path() / rel).lexically_normal().string();
+}
+
+std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::string& path,
+                                             Diagnostics& diagnostics) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
+    diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
+    return std::nullopt;
+  }
+  const tinyxml2::XMLElement* root = doc.RootElement();
+  if (!root || std::string(root->Name()) != "project") {
+    diagnostics.error(path, root ? root->GetLineNum() : 1, "a project file must have <project> as its root element");
+    return std::nullopt;
+  }
+
+  ProjectDesc project;
+  project.file = path;
+  ElementReader r(root, path, diagnostics);
+  project.name = r.text("name", std::filesystem::path(path).stem().string());
+
+  // The world comes first whatever the order in the file: robots refer to its materials and origin.
+  const tinyxml2::XMLElement* world = root->FirstChildElement("world");
+  if (!world) r.error("<project> needs a <world>");
+  else read_world(*world, path, diagnostics, project.world);
+
+  r.children({"run", "world", "robot"}, [&](const tinyxml2::XMLElement& child) {
+    const std::string kind = child.Name();
+    if (kind == "world") {
+      if (&child != world) diagnostics.error(path, child.GetLineNum(), "a project has one <world>");
+    } else if (kind == "run") {
+      ElementReader c(&child, path, diagnostics);
+      project.run.duration_s = c.number("duration", project.run.duration_s, Range::positive(), "s");
+      project.run.seed = static_cast<std::uint64_t>(
+          c.number("seed", static_cast<double>(project.run.seed), Range::between(0, 4294967295.0, "0..4294967295")));
+      project.run.trace_rate_hz = c.number("trace_rate", project.run.trace_rate_hz, Range::positive(), "Hz");
+      c.finish();
+    } else {
+      RobotDesc robot;
+      read_project_robot(child, path, diagnostics, project.world, robot);
+      for (const auto& other : project.robots)
+        if (other.name == robot.name && !robot.name.empty())
+          diagnostics.error(path, child.GetLineNum(), fmt::format("robot name '{}' is used twice", robot.name));
+      project.robots.push_back(std::move(robot));
+    }
+  });
+  r.finish();
+  for (const auto& robot : project.robots) validate_robot(robot, diagnostics);
+  if (!diagnostics.ok()) return std::nullopt;
+  return project;
+}
+
+std::optional<ProjectDesc> load_project(const std::string& path, Diagnostics& diagnostics) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    diagnostics.error(path, 0, std::filesystem::exists(path) ? "cannot read project file" : "project file not found");
+    return std::nullopt;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return load_project_text(text.str(), path, diagnostics);
+}
+
+}  // namespace sear

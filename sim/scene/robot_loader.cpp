@@ -1,0 +1,237 @@
+// Reads robots: a <robot> in a project, optionally including a reusable robot file, its pose,
+// chassis, wheels, casters, motors, servos and scripted command schedule.
+#include <fmt/format.h>
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "scene/loader_parts.hpp"
+#include "scene/mesh_loader.hpp"
+#include "scene/nearest_name.hpp"
+
+namespace sear {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+constexpr double kRpmToRadps = 2.0 * M_PI / 60.0;
+
+std::vector<std::string> material_names(const WorldDesc& world) {
+  std::vector<std::string> names;
+  for (const auto& m : world.materials) names.push_back(m.name);
+  return names;
+}
+
+std::string read_material(ElementReader& r, const WorldDesc& world) {
+  const std::string name = r.text("material", "default");
+  const auto names = material_names(world);
+  if (std::find(names.begin(), names.end(), name) == names.end())
+    r.error(fmt::format("<{}> uses unknown material '{}'{}", r.name(), name, did_you_mean(name, names)));
+  return name;
+}
+
+void read_chassis(ElementReader& r, const WorldDesc& world, ChassisDesc& chassis) {
+  chassis.shape = r.choice("shape", {"box", "mesh"}, 0) == 0 ? ChassisDesc::Shape::Box : ChassisDesc::Shape::Mesh;
+  chassis.mass_kg = r.required_number("mass", Range::positive(), "kg").value_or(chassis.mass_kg);
+  chassis.material = read_material(r, world);
+  if (chassis.shape == ChassisDesc::Shape::Box) {
+    chassis.size_m = r.vec3("size", chassis.size_m, Range::positive());
+  } else {
+    const auto rel = r.required_text("file");
+    const UpAxis up = r.choice("up_axis", {"z", "y"}, 0) == 0 ? UpAxis::Z : UpAxis::Y;
+    const double scale = r.number("scale", 1.0, Range::positive());
+    if (rel) {
+      const std::string path = path_beside(r.file(), *rel);
+      if (!std::filesystem::exists(path)) {
+        r.error(fmt::format("<chassis> mesh file '{}' not found (looked for {})", *rel, path));
+      } else {
+        MeshLoadResult loaded = load_mesh(path, up, scale);
+        if (!loaded.error.empty()) {
+          r.error(fmt::format("<chassis> mesh file '{}': {}", *rel, loaded.error));
+        } else {
+          Eigen::Vector3f lo, hi;
+          mesh_bounds(loaded.mesh, lo, hi);
+          chassis.size_m = (hi - lo).cast<double>();
+          chassis.mesh = std::move(loaded.mesh);
+        }
+      }
+    }
+  }
+  r.finish();
+}
+
+WheelDesc read_wheel(ElementReader& r, const WorldDesc& world) {
+  WheelDesc w;
+  w.source = {r.file(), r.line()};
+  w.name = r.required_text("name").value_or("");
+  w.position_m = r.vec3("pos", w.position_m);
+  w.radius_m = r.required_number("radius", Range::positive(), "m").value_or(w.radius_m);
+  w.width_m = r.number("width", w.width_m, Range::positive(), "m");
+  w.mass_kg = r.number("mass", w.mass_kg, Range::positive(), "kg");
+  w.steered = r.text("steered", "false") == "true";
+  w.material = read_material(r, world);
+  r.finish();
+  return w;
+}
+
+MotorDesc read_motor(ElementReader& r) {
+  MotorDesc m;
+  m.source = {r.file(), r.line()};
+  m.name = r.required_text("name").value_or("");
+  m.wheels = r.names("wheels");
+  if (m.wheels.empty()) r.error("<motor> needs attribute 'wheels' (the names of the wheels it drives)");
+  m.stall_torque_nm = r.required_number("stall_torque", Range::positive(), "N*m").value_or(m.stall_torque_nm);
+  if (r.has("no_load_rpm")) {
+    m.no_load_speed_radps = r.number("no_load_rpm", 0, Range::positive(), "rpm") * kRpmToRadps;
+  } else {
+    m.no_load_speed_radps =
+        r.required_number("no_load_speed", Range::positive(), "rad/s (or give no_load_rpm)").value_or(1);
+  }
+  m.supply_voltage_v = r.number("supply_voltage", m.supply_voltage_v, Range::positive(), "V");
+  m.gear_friction_nm = r.number("gear_friction", m.gear_friction_nm, Range::non_negative(), "N*m");
+  if (m.gear_friction_nm >= m.stall_torque_nm)
+    r.error("<motor> 'gear_friction' must be below 'stall_torque', or the motor could never turn");
+  r.finish();
+  return m;
+}
+
+ServoDesc read_servo(ElementReader& r) {
+  ServoDesc s;
+  s.source = {r.file(), r.line()};
+  s.name = r.required_text("name").value_or("");
+  s.kind = r.choice("kind", {"positional", "continuous"}, 0) == 0 ? ServoDesc::Kind::Positional
+                                                                   : ServoDesc::Kind::Continuous;
+  s.wheels = r.names(s.kind == ServoDesc::Kind::Positional ? "steers" : "wheels");
+  if (s.wheels.empty())
+    r.error(s.kind == ServoDesc::Kind::Positional ? "<servo kind=\"positional\"> needs 'steers' (wheel names)"
+                                                  : "<servo kind=\"continuous\"> needs 'wheels' (wheel names)");
+  const Range pulse = Range::between(400, 2600, "400..2600 us");
+  s.min_pulse_us = r.number("min_pulse_us", s.min_pulse_us, pulse, "us");
+  s.max_pulse_us = r.number("max_pulse_us", s.max_pulse_us, pulse, "us");
+  if (s.max_pulse_us <= s.min_pulse_us) r.error("<servo> 'max_pulse_us' must be above 'min_pulse_us'");
+  s.torque_nm = r.number("torque", s.torque_nm, Range::positive(), "N*m");
+  if (s.kind == ServoDesc::Kind::Positional) {
+    s.range_rad = r.number("range_deg", 60.0, Range::between(1, 360, "1..360 degrees"), "deg") * kDegToRad;
+    // Hobby servo datasheets give speed as seconds per 60 degrees.
+    const double s_per_60 = r.number("speed_s_per_60deg", 0.17, Range::positive(), "s");
+    s.speed_radps = (60.0 * kDegToRad) / s_per_60;
+  } else {
+    s.speed_radps = r.number("no_load_rpm", 50.0, Range::positive(), "rpm") * kRpmToRadps;
+  }
+  r.finish();
+  return s;
+}
+
+void read_pose(ElementReader& r, const WorldDesc& world, RobotDesc& robot) {
+  const bool geo = r.has("latitude") || r.has("longitude");
+  if (geo) {
+    GeoPoint p;
+    p.latitude_deg = r.required_number("latitude", Range::between(-90, 90, "-90..90 degrees"), "deg").value_or(0);
+    p.longitude_deg =
+        r.required_number("longitude", Range::between(-180, 180, "-180..180 degrees"), "deg").value_or(0);
+    p.altitude_m = world.gps_origin.altitude_m;
+    const Enu e = LocalTangentPlane(world.gps_origin).to_enu(p);
+    robot.start_xy_m = {e.east_m, e.north_m};
+    if (robot.start_xy_m.norm() > 100e3)
+      r.error("<pose> is more than 100 km from the world's <gps_origin>; is the origin set?");
+  } else {
+    robot.start_xy_m = {r.number("x", 0.0, Range::any(), "m"), r.number("y", 0.0, Range::any(), "m")};
+  }
+  robot.start_yaw_rad = r.number("yaw_deg", 0.0) * kDegToRad;
+  r.finish();
+}
+
+// `inline_robot`: the parts stand in the project itself, which may also give the pose there.
+void read_robot_parts(ElementReader& r, const WorldDesc& world, Diagnostics& diagnostics, RobotDesc& robot,
+                      bool inline_robot) {
+  robot.drive = static_cast<DriveKind>(r.choice("drive", {"differential", "skid_steer", "ackermann"}, 0));
+  const auto visit = [&](const tinyxml2::XMLElement& child) {
+    ElementReader c(&child, r.file(), diagnostics);
+    const std::string kind = child.Name();
+    if (kind == "pose") read_pose(c, world, robot);
+    else if (kind == "chassis") read_chassis(c, world, robot.chassis);
+    else if (kind == "wheel") robot.wheels.push_back(read_wheel(c, world));
+    else if (kind == "caster") {
+      CasterDesc caster;
+      caster.position_m = c.vec3("pos", caster.position_m);
+      caster.radius_m = c.required_number("radius", Range::positive(), "m").value_or(caster.radius_m);
+      c.finish();
+      robot.casters.push_back(caster);
+    } else if (kind == "motor") robot.motors.push_back(read_motor(c));
+    else if (kind == "servo") robot.servos.push_back(read_servo(c));
+    else if (kind == "script") read_script(child, r.file(), diagnostics, robot.script);
+  };
+  if (inline_robot) r.children({"pose", "chassis", "wheel", "caster", "motor", "servo", "script"}, visit);
+  else r.children({"chassis", "wheel", "caster", "motor", "servo", "script"}, visit);
+}
+
+}  // namespace
+
+void read_script(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
+                 std::vector<ScriptCommand>& script) {
+  ElementReader r(&element, file, diagnostics);
+  script.clear();
+  r.children({"motor", "servo"}, [&](const tinyxml2::XMLElement& child) {
+    ElementReader c(&child, file, diagnostics);
+    ScriptCommand cmd;
+    cmd.source = {file, c.line()};
+    cmd.t_s = c.required_number("t", Range::non_negative(), "s").value_or(0);
+    cmd.actuator = c.required_text("name").value_or("");
+    cmd.is_servo = std::string(child.Name()) == "servo";
+    if (cmd.is_servo) {
+      cmd.pulse_us = c.required_number("pulse_us", Range::between(400, 2600, "400..2600 us"), "us").value_or(1500);
+    } else {
+      cmd.duty = c.number("duty", 0.0, Range::between(0, 1, "0..1"));
+      cmd.direction = static_cast<MotorDirection>(c.choice("dir", {"forward", "reverse", "brake", "coast"}, 0));
+    }
+    c.finish();
+    script.push_back(cmd);
+  });
+  r.finish();
+  std::stable_sort(script.begin(), script.end(),
+                   [](const ScriptCommand& a, const ScriptCommand& b) { return a.t_s < b.t_s; });
+}
+
+void read_project_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
+                        const WorldDesc& world, RobotDesc& robot) {
+  ElementReader r(&element, file, diagnostics);
+  robot.source = {file, r.line()};
+  const std::string included = r.text("file", "");
+  robot.name = r.text("name", "");
+
+  if (!included.empty()) {
+    // A reusable robot file: its <robot> holds the parts; the project adds pose and script.
+    const std::string path = path_beside(file, included);
+    tinyxml2::XMLDocument doc;
+    if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) {
+      if (doc.ErrorID() == tinyxml2::XML_ERROR_FILE_NOT_FOUND)
+        r.error(fmt::format("robot file '{}' not found (looked for {})", included, path));
+      else
+        diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
+    } else if (!doc.RootElement() || std::string(doc.RootElement()->Name()) != "robot") {
+      diagnostics.error(path, doc.RootElement() ? doc.RootElement()->GetLineNum() : 1,
+                        "a robot file must have <robot> as its root element");
+    } else {
+      ElementReader base(doc.RootElement(), path, diagnostics);
+      const std::string base_name = base.text("name", "");
+      if (robot.name.empty()) robot.name = base_name;
+      read_robot_parts(base, world, diagnostics, robot, false);
+      base.finish();
+    }
+    r.children({"pose", "script"}, [&](const tinyxml2::XMLElement& child) {
+      if (std::string(child.Name()) == "script") {
+        read_script(child, file, diagnostics, robot.script);
+      } else {
+        ElementReader p(&child, file, diagnostics);
+        read_pose(p, world, robot);
+      }
+    });
+  } else {
+    read_robot_parts(r, world, diagnostics, robot, true);
+  }
+  if (robot.name.empty()) r.error("<robot> needs a 'name' (here or in its robot file)");
+  r.finish();
+}
+
+}  // namespace sear

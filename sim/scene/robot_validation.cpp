@@ -1,0 +1,95 @@
+// Cross-checks of a robot once all its parts are read: names, wiring and the drive layout.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+
+#include "scene/loader_parts.hpp"
+#include "scene/nearest_name.hpp"
+
+namespace sear {
+
+void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics) {
+  const auto fail = [&](const SourceRef& at, const std::string& message) {
+    diagnostics.error(at.file, at.line, fmt::format("robot '{}': {}", robot.name, message));
+  };
+
+  std::vector<std::string> wheel_names;
+  for (const auto& w : robot.wheels) {
+    if (std::find(wheel_names.begin(), wheel_names.end(), w.name) != wheel_names.end())
+      fail(w.source, fmt::format("wheel name '{}' is used twice", w.name));
+    wheel_names.push_back(w.name);
+  }
+
+  // Each wheel is driven by at most one actuator; every actuator names real wheels.
+  std::map<std::string, std::string> driven_by;
+  std::vector<std::string> actuator_names;
+  const auto claim = [&](const SourceRef& at, const std::string& actuator, const std::string& wheel, bool steer) {
+    if (std::find(wheel_names.begin(), wheel_names.end(), wheel) == wheel_names.end()) {
+      fail(at, fmt::format("'{}' names unknown wheel '{}'{}", actuator, wheel, did_you_mean(wheel, wheel_names)));
+      return;
+    }
+    const std::string key = (steer ? "steer:" : "drive:") + wheel;
+    if (driven_by.count(key))
+      fail(at, fmt::format("wheel '{}' is already {} by '{}'", wheel, steer ? "steered" : "driven", driven_by[key]));
+    driven_by[key] = actuator;
+  };
+  const auto name_actuator = [&](const SourceRef& at, const std::string& name) {
+    if (std::find(actuator_names.begin(), actuator_names.end(), name) != actuator_names.end())
+      fail(at, fmt::format("actuator name '{}' is used twice", name));
+    actuator_names.push_back(name);
+  };
+  for (const auto& m : robot.motors) {
+    name_actuator(m.source, m.name);
+    for (const auto& w : m.wheels) claim(m.source, m.name, w, false);
+  }
+  for (const auto& s : robot.servos) {
+    name_actuator(s.source, s.name);
+    const bool steer = s.kind == ServoDesc::Kind::Positional;
+    for (const auto& w : s.wheels) {
+      claim(s.source, s.name, w, steer);
+      const auto it = std::find_if(robot.wheels.begin(), robot.wheels.end(),
+                                   [&](const WheelDesc& wd) { return wd.name == w; });
+      if (steer && it != robot.wheels.end() && !it->steered)
+        fail(s.source, fmt::format("servo '{}' steers wheel '{}', which is not marked steered=\"true\"", s.name, w));
+    }
+  }
+
+  const std::size_t steered =
+      std::count_if(robot.wheels.begin(), robot.wheels.end(), [](const WheelDesc& w) { return w.steered; });
+  const SourceRef& at = robot.source;
+  switch (robot.drive) {
+    case DriveKind::Differential:
+      if (robot.wheels.size() != 2) fail(at, fmt::format("drive=\"differential\" needs 2 wheels, found {}", robot.wheels.size()));
+      if (robot.casters.empty()) fail(at, "drive=\"differential\" needs at least one <caster>");
+      break;
+    case DriveKind::SkidSteer:
+      if (robot.wheels.size() != 4) fail(at, fmt::format("drive=\"skid_steer\" needs 4 wheels, found {}", robot.wheels.size()));
+      break;
+    case DriveKind::Ackermann:
+      if (robot.wheels.size() != 4) fail(at, fmt::format("drive=\"ackermann\" needs 4 wheels, found {}", robot.wheels.size()));
+      if (steered != 2) fail(at, fmt::format("drive=\"ackermann\" needs 2 wheels with steered=\"true\", found {}", steered));
+      break;
+  }
+  if (robot.drive != DriveKind::Ackermann && steered > 0)
+    fail(at, "only drive=\"ackermann\" has steered wheels");
+  for (const auto& w : robot.wheels)
+    if (w.steered && !driven_by.count("steer:" + w.name))
+      fail(w.source, fmt::format("steered wheel '{}' has no positional servo steering it", w.name));
+
+  for (const auto& cmd : robot.script) {
+    const auto motor = std::find_if(robot.motors.begin(), robot.motors.end(),
+                                    [&](const MotorDesc& m) { return m.name == cmd.actuator; });
+    const auto servo = std::find_if(robot.servos.begin(), robot.servos.end(),
+                                    [&](const ServoDesc& s) { return s.name == cmd.actuator; });
+    if (cmd.is_servo ? servo == robot.servos.end() : motor == robot.motors.end()) {
+      std::vector<std::string> names;
+      if (cmd.is_servo) for (const auto& s : robot.servos) names.push_back(s.name);
+      else for (const auto& m : robot.motors) names.push_back(m.name);
+      fail(cmd.source, fmt::format("script names unknown {} '{}'{}", cmd.is_servo ? "servo" : "motor", cmd.actuator,
+                                   did_you_mean(cmd.actuator, names)));
+    }
+  }
+}
+
+}  // namespace sear

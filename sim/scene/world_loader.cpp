@@ -1,0 +1,175 @@
+// Reads <world>: gravity, step, GPS origin, magnetic north, materials, terrain and obstacles.
+#include <fmt/format.h>
+#include <tinyxml2.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "scene/heightmap_image.hpp"
+#include "scene/loader_parts.hpp"
+#include "scene/mesh_loader.hpp"
+#include "scene/nearest_name.hpp"
+
+namespace sear {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+UpAxis read_up_axis(ElementReader& r) { return r.choice("up_axis", {"z", "y"}, 0) == 0 ? UpAxis::Z : UpAxis::Y; }
+
+// Loads the mesh named by the element's `file` attribute; errors name the element's line.
+TriangleMesh read_mesh_file(ElementReader& r) {
+  const auto rel = r.required_text("file");
+  const UpAxis up = read_up_axis(r);
+  const double scale = r.number("scale", 1.0, Range::positive());
+  if (!rel) return {};
+  const std::string path = path_beside(r.file(), *rel);
+  if (!std::filesystem::exists(path)) {
+    r.error(fmt::format("<{}> mesh file '{}' not found (looked for {})", r.name(), *rel, path));
+    return {};
+  }
+  MeshLoadResult loaded = load_mesh(path, up, scale);
+  if (!loaded.error.empty()) r.error(fmt::format("<{}> mesh file '{}': {}", r.name(), *rel, loaded.error));
+  return std::move(loaded.mesh);
+}
+
+void read_terrain(ElementReader& r, TerrainDesc& t) {
+  const std::size_t kind = r.choice("type", {"flat", "heightmap", "mesh"}, 0);
+  t.material = r.text("material", "default");
+  if (kind == 0) {
+    t.kind = TerrainKind::Flat;
+  } else if (kind == 1) {
+    t.kind = TerrainKind::Heightmap;
+    const auto rel = r.required_text("image");
+    t.size_m = r.vec2("size", {0, 0});
+    const double lo = r.number("min_height", 0.0, Range::any(), "m");
+    const double hi = r.number("max_height", 1.0, Range::any(), "m");
+    if (!r.has("size")) r.error("<terrain type=\"heightmap\"> needs attribute 'size' (\"x y\" in metres)");
+    else if (!(t.size_m.x() > 0 && t.size_m.y() > 0)) r.error("<terrain> attribute 'size': both sides must be > 0 m");
+    if (hi < lo) r.error("<terrain> 'max_height' must not be below 'min_height'");
+    if (rel) {
+      const std::string path = path_beside(r.file(), *rel);
+      const HeightmapImage image = load_heightmap_image(path);
+      if (!image.error.empty()) {
+        r.error(fmt::format("<terrain> image '{}': {}", *rel, image.error));
+      } else {
+        t.columns = image.columns;
+        t.rows = image.rows;
+        t.heights_m.reserve(image.levels.size());
+        for (double level : image.levels) t.heights_m.push_back(lo + level * (hi - lo));
+      }
+    }
+  } else {
+    t.kind = TerrainKind::Mesh;
+    t.mesh = read_mesh_file(r);
+  }
+  r.finish();
+}
+
+}  // namespace
+
+void read_world(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
+                WorldDesc& world) {
+  ElementReader r(&element, file, diagnostics);
+  world.gravity = r.vec3("gravity", world.gravity);
+  world.step_s = r.number("step", world.step_s, Range::between(1e-5, 0.01, "between 0.00001 and 0.01 s"), "s");
+  world.materials.push_back(Material{"default", 0.8, 0.0});
+  struct MaterialUse {
+    std::string material;
+    int line;
+    std::string what;
+  };
+  std::vector<MaterialUse> uses;  // checked once all materials are known, so their order does not matter
+  r.children({"gps_origin", "magnetic", "material", "terrain", "box", "tree", "wall", "mesh"},
+             [&](const tinyxml2::XMLElement& child) {
+               ElementReader c(&child, file, diagnostics);
+               const std::string kind = child.Name();
+               if (kind == "gps_origin") {
+                 world.gps_origin.latitude_deg =
+                     c.required_number("latitude", Range::between(-90, 90, "-90..90 degrees"), "deg").value_or(0);
+                 world.gps_origin.longitude_deg =
+                     c.required_number("longitude", Range::between(-180, 180, "-180..180 degrees"), "deg").value_or(0);
+                 world.gps_origin.altitude_m = c.number("altitude", 0.0, Range::any(), "m");
+               } else if (kind == "magnetic") {
+                 world.magnetic_declination_rad =
+                     c.number("declination_deg", 0.0, Range::between(-180, 180, "-180..180 degrees"), "deg") *
+                     kDegToRad;
+               } else if (kind == "material") {
+                 Material m;
+                 m.name = c.required_text("name").value_or("");
+                 m.friction = c.number("friction", m.friction, Range::non_negative());
+                 m.bounce = c.number("bounce", m.bounce, Range::between(0, 1, "0..1"));
+                 bool duplicate = false;
+                 for (auto& existing : world.materials) {
+                   if (existing.name != m.name) continue;
+                   if (existing.name == "default") existing = m;  // the user may redefine the default
+                   else c.error(fmt::format("material '{}' is defined twice", m.name));
+                   duplicate = true;
+                 }
+                 if (!duplicate && !m.name.empty()) world.materials.push_back(m);
+               } else if (kind == "terrain") {
+                 read_terrain(c, world.terrain);
+                 uses.push_back({world.terrain.material, c.line(), "terrain"});
+                 return;
+               } else if (kind == "box") {
+                 BoxDesc b;
+                 b.name = c.text("name", fmt::format("box{}", world.boxes.size() + 1));
+                 b.size_m = c.vec3("size", b.size_m, Range::positive());
+                 b.xy_m = c.vec2("pos", b.xy_m);
+                 b.on_ground = !c.has("z");
+                 b.z_m = c.number("z", 0.0, Range::any(), "m");
+                 b.yaw_rad = c.number("yaw_deg", 0.0) * kDegToRad;
+                 b.mass_kg = c.number("mass", 0.0, Range::non_negative(), "kg");
+                 b.material = c.text("material", "default");
+                 uses.push_back({b.material, c.line(), "box '" + b.name + "'"});
+                 world.boxes.push_back(b);
+               } else if (kind == "tree") {
+                 TreeDesc t;
+                 t.name = c.text("name", fmt::format("tree{}", world.trees.size() + 1));
+                 t.xy_m = c.vec2("pos", t.xy_m);
+                 t.trunk_radius_m = c.number("trunk_radius", t.trunk_radius_m, Range::positive(), "m");
+                 t.trunk_height_m = c.number("trunk_height", t.trunk_height_m, Range::positive(), "m");
+                 t.crown_radius_m = c.number("crown_radius", t.crown_radius_m, Range::non_negative(), "m");
+                 t.material = c.text("material", "default");
+                 uses.push_back({t.material, c.line(), "tree '" + t.name + "'"});
+                 world.trees.push_back(t);
+               } else if (kind == "wall") {
+                 WallDesc w;
+                 w.name = c.text("name", fmt::format("wall{}", world.walls.size() + 1));
+                 w.from_m = c.vec2("from", w.from_m);
+                 w.to_m = c.vec2("to", w.to_m);
+                 w.height_m = c.number("height", w.height_m, Range::positive(), "m");
+                 w.thickness_m = c.number("thickness", w.thickness_m, Range::positive(), "m");
+                 w.material = c.text("material", "default");
+                 if ((w.to_m - w.from_m).norm() < 1e-6) c.error("<wall> 'from' and 'to' are the same point");
+                 uses.push_back({w.material, c.line(), "wall '" + w.name + "'"});
+                 world.walls.push_back(w);
+               } else if (kind == "mesh") {
+                 MeshObstacleDesc m;
+                 m.name = c.text("name", fmt::format("mesh{}", world.meshes.size() + 1));
+                 m.xy_m = c.vec2("pos", m.xy_m);
+                 m.yaw_rad = c.number("yaw_deg", 0.0) * kDegToRad;
+                 m.material = c.text("material", "default");
+                 m.mesh = read_mesh_file(c);
+                 uses.push_back({m.material, c.line(), "mesh '" + m.name + "'"});
+                 world.meshes.push_back(std::move(m));
+               }
+               c.finish();
+             });
+  r.finish();
+
+  for (const auto& use : uses) {
+    bool known = false;
+    std::vector<std::string> names;
+    for (const auto& m : world.materials) {
+      known = known || m.name == use.material;
+      names.push_back(m.name);
+    }
+    if (!known)
+      diagnostics.error(file, use.line,
+                        fmt::format("{} uses unknown material '{}'{}", use.what, use.material,
+                                    did_you_mean(use.material, names)));
+  }
+}
+
+}  // namespace sear

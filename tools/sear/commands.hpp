@@ -1,0 +1,25 @@
+// The `sear` subcommands and the options they take.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace sear {
+
+struct RunOptions {
+  std::string project;                   // file, or a folder holding project.xml; empty: the bundled default
+  std::optional<double> duration_s;      // overrides the project's <run duration>
+  std::optional<std::uint64_t> seed;     // overrides the project's <run seed>
+  std::optional<double> trace_rate_hz;   // overrides the project's <run trace_rate>
+  std::string out_dir = "sear-out";
+  bool quiet = false;
+};
+
+// A project argument as the user typed it -> the project file to load.
+std::string resolve_project_path(const std::string& argument);
+
+int run_command(const RunOptions& options);
+int check_command(const std::string& project);
+
+}  // namespace sear
