@@ -31,7 +31,7 @@ PhysicsWorld::PhysicsWorld(const WorldDesc& desc, std::uint64_t seed) : desc_(de
   dWorldSetGravity(world_, desc.gravity.x(), desc.gravity.y(), desc.gravity.z());
   dWorldSetERP(world_, 0.2);
   dWorldSetCFM(world_, 1e-6);
-  dWorldSetQuickStepNumIterations(world_, 20);
+  dWorldSetQuickStepNumIterations(world_, desc.solver_iterations);
   dWorldSetContactSurfaceLayer(world_, 0.0005);
   dWorldSetContactMaxCorrectingVel(world_, 1.0);
   static_space_ = dHashSpaceCreate(nullptr);

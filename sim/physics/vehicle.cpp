@@ -205,9 +205,12 @@ void Vehicle::apply_actuators(double dt_s) {
     for (const auto& name : servo.wheels) {
       const std::size_t w = wheel_index(name);
       const double target = ackermann_wheel_angle(servo_angles_[s], wheelbase_m_, desc_.wheels[w].position_m.y());
-      const double error = target - dJointGetHinge2Angle1(wheels_[w].joint);
+      // ODE measures the hinge-2 angle and its motor speed as the chassis (body 1) relative to the
+      // wheel: the wheel's own steer to the left is the negative of both.
+      const double steer = -dJointGetHinge2Angle1(wheels_[w].joint);
       const double limit = 2.0 * servo.speed_radps;
-      dJointSetHinge2Param(wheels_[w].joint, dParamVel, std::clamp(kSteerGain_per_s * error, -limit, limit));
+      const double rate = std::clamp(kSteerGain_per_s * (target - steer), -limit, limit);
+      dJointSetHinge2Param(wheels_[w].joint, dParamVel, -rate);
       dJointSetHinge2Param(wheels_[w].joint, dParamFMax, servo.torque_nm);
     }
   }

@@ -85,6 +85,9 @@ struct MeshObstacleDesc {
 struct WorldDesc {
   Eigen::Vector3d gravity{0, 0, -9.81};
   double step_s = 0.001;
+  // QuickStep's fixed iteration count: more converges static friction better (less creep on
+  // slopes), at a cost per step roughly proportional to it.
+  int solver_iterations = 20;
   GeoPoint gps_origin{0, 0, 0};
   double magnetic_declination_rad = 0;  // east of true north is positive
   std::vector<Material> materials;      // always holds "default"

@@ -50,7 +50,8 @@ std::optional<double> ElementReader::parse_number(const char* attribute, const c
   while (end && *end == ' ') ++end;
   const std::string unit_text = *unit ? fmt::format(" {}", unit) : "";
   if (end == value || (end && *end) || errno == ERANGE || !std::isfinite(v)) {
-    error(fmt::format("<{}> attribute '{}': expected a number{}, got '{}'", name(), attribute, unit_text, value));
+    error(fmt::format("<{}> attribute '{}': expected a number{}, got '{}'", name(), attribute,
+                      *unit ? fmt::format(" ({})", unit) : "", value));
     return std::nullopt;
   }
   if (!range.contains(v)) {

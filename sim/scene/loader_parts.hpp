@@ -18,9 +18,10 @@ std::string path_beside(const std::string& file, const std::string& relative);
 void read_world(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
                 WorldDesc& world);
 
-// A <robot> element of a project: inline, or naming a robot file with file="...".
-void read_project_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
-                        const WorldDesc& world, RobotDesc& robot);
+// A <robot> element of a project: inline, or naming a robot file with file="...". Materials the
+// robot declares join the world's. False when an included robot file could not be read.
+bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
+                        WorldDesc& world, RobotDesc& robot);
 
 void read_script(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
                  std::vector<ScriptCommand>& script);

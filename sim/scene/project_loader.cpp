@@ -55,7 +55,7 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
       c.finish();
     } else {
       RobotDesc robot;
-      read_project_robot(child, path, diagnostics, project.world, robot);
+      if (!read_project_robot(child, path, diagnostics, project.world, robot)) return;
       for (const auto& other : project.robots)
         if (other.name == robot.name && !robot.name.empty())
           diagnostics.error(path, child.GetLineNum(), fmt::format("robot name '{}' is used twice", robot.name));

@@ -143,12 +143,26 @@ void read_pose(ElementReader& r, const WorldDesc& world, RobotDesc& robot) {
 }
 
 // `inline_robot`: the parts stand in the project itself, which may also give the pose there.
-void read_robot_parts(ElementReader& r, const WorldDesc& world, Diagnostics& diagnostics, RobotDesc& robot,
-                      bool inline_robot) {
+void read_robot_parts(ElementReader& r, const tinyxml2::XMLElement& element, WorldDesc& world,
+                      Diagnostics& diagnostics, RobotDesc& robot, bool inline_robot) {
   robot.drive = static_cast<DriveKind>(r.choice("drive", {"differential", "skid_steer", "ackermann"}, 0));
+  // A reusable robot brings the materials of its tyres and chassis; a world that names the same
+  // material keeps its own figures, since the world knows its surfaces.
+  for (auto* m = element.FirstChildElement("material"); m; m = m->NextSiblingElement("material")) {
+    ElementReader c(m, r.file(), diagnostics);
+    Material material;
+    material.name = c.required_text("name").value_or("");
+    material.friction = c.number("friction", material.friction, Range::non_negative());
+    material.bounce = c.number("bounce", material.bounce, Range::between(0, 1, "0..1"));
+    c.finish();
+    const auto names = material_names(world);
+    if (!material.name.empty() && std::find(names.begin(), names.end(), material.name) == names.end())
+      world.materials.push_back(material);
+  }
   const auto visit = [&](const tinyxml2::XMLElement& child) {
     ElementReader c(&child, r.file(), diagnostics);
     const std::string kind = child.Name();
+    if (kind == "material") return;  // read above, before the parts that use them
     if (kind == "pose") read_pose(c, world, robot);
     else if (kind == "chassis") read_chassis(c, world, robot.chassis);
     else if (kind == "wheel") robot.wheels.push_back(read_wheel(c, world));
@@ -162,8 +176,8 @@ void read_robot_parts(ElementReader& r, const WorldDesc& world, Diagnostics& dia
     else if (kind == "servo") robot.servos.push_back(read_servo(c));
     else if (kind == "script") read_script(child, r.file(), diagnostics, robot.script);
   };
-  if (inline_robot) r.children({"pose", "chassis", "wheel", "caster", "motor", "servo", "script"}, visit);
-  else r.children({"chassis", "wheel", "caster", "motor", "servo", "script"}, visit);
+  if (inline_robot) r.children({"pose", "material", "chassis", "wheel", "caster", "motor", "servo", "script"}, visit);
+  else r.children({"material", "chassis", "wheel", "caster", "motor", "servo", "script"}, visit);
 }
 
 }  // namespace
@@ -193,8 +207,9 @@ void read_script(const tinyxml2::XMLElement& element, const std::string& file, D
                    [](const ScriptCommand& a, const ScriptCommand& b) { return a.t_s < b.t_s; });
 }
 
-void read_project_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
-                        const WorldDesc& world, RobotDesc& robot) {
+bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
+                        WorldDesc& world, RobotDesc& robot) {
+  bool parts_read = true;
   ElementReader r(&element, file, diagnostics);
   robot.source = {file, r.line()};
   const std::string included = r.text("file", "");
@@ -205,18 +220,20 @@ void read_project_robot(const tinyxml2::XMLElement& element, const std::string& 
     const std::string path = path_beside(file, included);
     tinyxml2::XMLDocument doc;
     if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) {
+      parts_read = false;
       if (doc.ErrorID() == tinyxml2::XML_ERROR_FILE_NOT_FOUND)
         r.error(fmt::format("robot file '{}' not found (looked for {})", included, path));
       else
         diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
     } else if (!doc.RootElement() || std::string(doc.RootElement()->Name()) != "robot") {
+      parts_read = false;
       diagnostics.error(path, doc.RootElement() ? doc.RootElement()->GetLineNum() : 1,
                         "a robot file must have <robot> as its root element");
     } else {
       ElementReader base(doc.RootElement(), path, diagnostics);
       const std::string base_name = base.text("name", "");
       if (robot.name.empty()) robot.name = base_name;
-      read_robot_parts(base, world, diagnostics, robot, false);
+      read_robot_parts(base, *doc.RootElement(), world, diagnostics, robot, false);
       base.finish();
     }
     r.children({"pose", "script"}, [&](const tinyxml2::XMLElement& child) {
@@ -228,10 +245,12 @@ void read_project_robot(const tinyxml2::XMLElement& element, const std::string& 
       }
     });
   } else {
-    read_robot_parts(r, world, diagnostics, robot, true);
+    read_robot_parts(r, element, world, diagnostics, robot, true);
   }
-  if (robot.name.empty()) r.error("<robot> needs a 'name' (here or in its robot file)");
+  // A robot file that did not load already has its error; its name and parts are unknown, not wrong.
+  if (parts_read && robot.name.empty()) r.error("<robot> needs a 'name' (here or in its robot file)");
   r.finish();
+  return parts_read;
 }
 
 }  // namespace sear

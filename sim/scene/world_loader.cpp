@@ -50,7 +50,9 @@ void read_terrain(ElementReader& r, TerrainDesc& t) {
     if (rel) {
       const std::string path = path_beside(r.file(), *rel);
       const HeightmapImage image = load_heightmap_image(path);
-      if (!image.error.empty()) {
+      if (!std::filesystem::exists(path)) {
+        r.error(fmt::format("<terrain> image '{}' not found (looked for {})", *rel, path));
+      } else if (!image.error.empty()) {
         r.error(fmt::format("<terrain> image '{}': {}", *rel, image.error));
       } else {
         t.columns = image.columns;
@@ -73,6 +75,8 @@ void read_world(const tinyxml2::XMLElement& element, const std::string& file, Di
   ElementReader r(&element, file, diagnostics);
   world.gravity = r.vec3("gravity", world.gravity);
   world.step_s = r.number("step", world.step_s, Range::between(1e-5, 0.01, "between 0.00001 and 0.01 s"), "s");
+  world.solver_iterations = static_cast<int>(
+      r.number("solver_iterations", world.solver_iterations, Range::between(1, 1000, "1..1000")));
   world.materials.push_back(Material{"default", 0.8, 0.0});
   struct MaterialUse {
     std::string material;

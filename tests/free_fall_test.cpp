@@ -1,0 +1,35 @@
+// Free fall against z = z0 - g t^2 / 2, on a box dropped from 50 m in an otherwise empty world.
+#include <gtest/gtest.h>
+
+#include "physics/physics_world.hpp"
+#include "physics/scenery.hpp"
+#include "test_world.hpp"
+
+namespace sear {
+namespace {
+
+TEST(FreeFall, FollowsHalfGTSquaredWithinOnePercent) {
+  const ProjectDesc project = test::project_from_xml(test::project_xml(
+      R"(gravity="0 0 -9.81" step="0.001")", R"(<box name="dropped" pos="0 0" z="50" size="0.2 0.2 0.2" mass="1"/>)", ""));
+  PhysicsWorld physics(project.world, 1);
+  build_terrain(physics, project.world.terrain);
+  build_obstacles(physics, project.world);
+  ASSERT_EQ(dSpaceGetNumGeoms(physics.dynamic_space()), 1);
+  dBodyID body = dGeomGetBody(dSpaceGetGeom(physics.dynamic_space(), 0));
+  ASSERT_NE(body, nullptr);
+
+  constexpr double g = 9.81, z0 = 50.0;
+  for (int step = 1; step <= 3000; ++step) {
+    physics.step();
+    if (step % 500 != 0) continue;
+    const double t = step * 1e-3;
+    const double expected_drop = 0.5 * g * t * t;  // 44.1 m at 3 s: still in the air
+    const double drop = z0 - dBodyGetPosition(body)[2];
+    EXPECT_NEAR(drop, expected_drop, 0.01 * expected_drop) << "t = " << t;
+    EXPECT_NEAR(dBodyGetLinearVel(body)[2], -g * t, 0.01 * g * t) << "t = " << t;
+    EXPECT_NEAR(dBodyGetPosition(body)[0], 0.0, 1e-12);  // nothing pushes it sideways
+  }
+}
+
+}  // namespace
+}  // namespace sear

@@ -1,0 +1,186 @@
+// Mesh and heightmap image loading against files whose content is known by construction: the same
+// wedge in four formats, and PGM images written byte by byte here.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "scene/heightmap_image.hpp"
+#include "scene/mesh_loader.hpp"
+
+namespace sear {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kMeshes = std::string(SEAR_TEST_DATA) + "/meshes/";
+
+// Sum of the signed volumes of the tetrahedra (origin, a, b, c): the enclosed volume of a closed
+// mesh, positive when its triangles wind counter-clockwise seen from outside.
+double signed_volume(const TriangleMesh& mesh) {
+  double six_v = 0;
+  for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const Eigen::Vector3d a = mesh.vertices[mesh.indices[i]].cast<double>();
+    const Eigen::Vector3d b = mesh.vertices[mesh.indices[i + 1]].cast<double>();
+    const Eigen::Vector3d c = mesh.vertices[mesh.indices[i + 2]].cast<double>();
+    six_v += a.dot(b.cross(c));
+  }
+  return six_v / 6.0;
+}
+
+void expect_box(const TriangleMesh& mesh, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
+  Eigen::Vector3f got_lo, got_hi;
+  mesh_bounds(mesh, got_lo, got_hi);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(got_lo[k], lo[k], 1e-5) << "lower bound, axis " << k;
+    EXPECT_NEAR(got_hi[k], hi[k], 1e-5) << "upper bound, axis " << k;
+  }
+}
+
+// Loads one of the wedge files (x 0..4, y -1..1, z 0..1 rising with x, written Z-up) and checks
+// that it arrives unrotated: 8 triangles, its box, and +4 m^3 (a 4 x 1 / 2 triangle times 2 wide).
+void check_z_up_wedge(const std::string& file) {
+  SCOPED_TRACE(file);
+  const MeshLoadResult loaded = load_mesh(kMeshes + file, UpAxis::Z, 1.0);
+  ASSERT_TRUE(loaded.error.empty()) << loaded.error;
+  ASSERT_EQ(loaded.mesh.indices.size(), 8u * 3u);
+  for (const auto index : loaded.mesh.indices) ASSERT_LT(index, loaded.mesh.vertices.size());
+  expect_box(loaded.mesh, {0, -1, 0}, {4, 1, 1});
+  EXPECT_NEAR(signed_volume(loaded.mesh), 4.0, 1e-5);
+}
+
+TEST(MeshLoader, WedgeObj) { check_z_up_wedge("wedge.obj"); }
+TEST(MeshLoader, WedgeStl) { check_z_up_wedge("wedge.stl"); }
+TEST(MeshLoader, WedgeColladaIgnoresItsOwnUpAxis) { check_z_up_wedge("wedge.dae"); }
+TEST(MeshLoader, WedgeOgreXml) { check_z_up_wedge("wedge.mesh.xml"); }
+
+TEST(MeshLoader, YUpFileIsTurnedSoItsYBecomesZ) {
+  // Y-up to Z-up is (x, y, z) -> (x, -z, y): the file's x 0..4 stays, its z 0..1 becomes y -1..0,
+  // its y -1..1 becomes z -1..1. A proper rotation, so the winding and the volume's sign stay.
+  const MeshLoadResult loaded = load_mesh(kMeshes + "wedge.obj", UpAxis::Y, 1.0);
+  ASSERT_TRUE(loaded.error.empty()) << loaded.error;
+  ASSERT_EQ(loaded.mesh.indices.size(), 8u * 3u);
+  expect_box(loaded.mesh, {0, -1, -1}, {4, 0, 1});
+  EXPECT_NEAR(signed_volume(loaded.mesh), 4.0, 1e-5);
+}
+
+TEST(MeshLoader, ScaleMultipliesEveryLength) {
+  const MeshLoadResult loaded = load_mesh(kMeshes + "wedge.obj", UpAxis::Z, 2.0);
+  ASSERT_TRUE(loaded.error.empty()) << loaded.error;
+  expect_box(loaded.mesh, {0, -2, 0}, {8, 2, 2});
+  EXPECT_NEAR(signed_volume(loaded.mesh), 32.0, 1e-4);  // 2^3 times 4 m^3
+}
+
+TEST(MeshLoader, BrokenFileGivesAnError) {
+  const MeshLoadResult loaded = load_mesh(kMeshes + "broken.obj", UpAxis::Z, 1.0);
+  EXPECT_FALSE(loaded.error.empty());
+  EXPECT_TRUE(loaded.mesh.indices.empty());
+}
+
+TEST(MeshLoader, MissingFileGivesAnError) {
+  const MeshLoadResult loaded = load_mesh(kMeshes + "no_such_mesh.obj", UpAxis::Z, 1.0);
+  EXPECT_FALSE(loaded.error.empty());
+}
+
+// A folder of its own for one test, removed again when the test ends.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    const std::string test = info ? info->name() : "test";
+    std::random_device random;
+    const auto now = static_cast<unsigned long long>(std::chrono::steady_clock::now().time_since_epoch().count());
+    for (int attempt = 0;; ++attempt) {
+      const fs::path candidate = fs::temp_directory_path() / ("sear_heightmap_" + test + "_" + std::to_string(now) +
+                                                              "_" + std::to_string(random()));
+      if (fs::create_directory(candidate)) {
+        path_ = candidate;
+        break;
+      }
+      if (attempt > 100) throw std::runtime_error("cannot create a temporary folder");
+    }
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+
+  std::string write(const std::string& name, const std::string& header, const std::vector<std::uint8_t>& bytes) const {
+    const fs::path file = path_ / name;
+    std::ofstream out(file, std::ios::binary);
+    out << header;
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    return file.string();
+  }
+
+ private:
+  fs::path path_;
+};
+
+TEST(HeightmapImage, EightBitPgmKeepsRowOrderAndLevels) {
+  TempDir dir;
+  // 3 columns, 2 rows; row 0 is the first row in the file.
+  const std::vector<std::uint8_t> bytes = {0, 128, 255, 10, 20, 30};
+  const std::string path = dir.write("small.pgm", "P5\n3 2\n255\n", bytes);
+  const HeightmapImage image = load_heightmap_image(path);
+  ASSERT_TRUE(image.error.empty()) << image.error;
+  EXPECT_EQ(image.columns, 3);
+  EXPECT_EQ(image.rows, 2);
+  ASSERT_EQ(image.levels.size(), bytes.size());
+  for (std::size_t i = 0; i < bytes.size(); ++i) EXPECT_NEAR(image.levels[i], bytes[i] / 255.0, 1e-12) << "sample " << i;
+}
+
+TEST(HeightmapImage, SixteenBitPgmIsReadMostSignificantByteFirst) {
+  TempDir dir;
+  // 2 columns, 2 rows of 16-bit samples; Netpbm stores each most significant byte first.
+  const std::vector<unsigned> values = {0, 65535, 1000, 40000};
+  std::vector<std::uint8_t> bytes;
+  for (const unsigned v : values) {
+    bytes.push_back(static_cast<std::uint8_t>(v >> 8));
+    bytes.push_back(static_cast<std::uint8_t>(v & 0xffu));
+  }
+  const std::string path = dir.write("deep.pgm", "P5\n2 2\n65535\n", bytes);
+  const HeightmapImage image = load_heightmap_image(path);
+  ASSERT_TRUE(image.error.empty()) << image.error;
+  EXPECT_EQ(image.columns, 2);
+  EXPECT_EQ(image.rows, 2);
+  ASSERT_EQ(image.levels.size(), values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    EXPECT_NEAR(image.levels[i], values[i] / 65535.0, 1e-12) << "sample " << i;
+}
+
+TEST(HeightmapImage, TooSmallImageIsAnError) {
+  TempDir dir;
+  const std::string path = dir.write("line.pgm", "P5\n3 1\n255\n", {1, 2, 3});
+  const HeightmapImage image = load_heightmap_image(path);
+  EXPECT_FALSE(image.error.empty());
+}
+
+TEST(HeightmapImage, MissingFileIsAnError) {
+  const HeightmapImage image = load_heightmap_image(std::string(SEAR_TEST_DATA) + "/no_such_heightmap.png");
+  EXPECT_FALSE(image.error.empty());
+}
+
+TEST(HeightmapImage, BundledHillsPngIs129By129) {
+  const HeightmapImage image = load_heightmap_image(std::string(SEAR_ASSET_DIR) + "/heightmaps/hills.png");
+  ASSERT_TRUE(image.error.empty()) << image.error;
+  EXPECT_EQ(image.columns, 129);
+  EXPECT_EQ(image.rows, 129);
+  ASSERT_EQ(image.levels.size(), 129u * 129u);
+  for (const double level : image.levels) {
+    ASSERT_GE(level, 0.0);
+    ASSERT_LE(level, 1.0);
+  }
+}
+
+}  // namespace
+}  // namespace sear

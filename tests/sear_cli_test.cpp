@@ -1,0 +1,157 @@
+// The `sear` program as a user runs it: determinism across processes, outputs, errors, Ctrl-C.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Result {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+// Runs `sear` with arguments (already shell-quoted) and collects its exit code and output.
+Result sear(const std::string& args) {
+  static int n = 0;
+  const fs::path dir = fs::temp_directory_path() / ("sear_cli_" + std::to_string(getpid()) + "_" + std::to_string(++n));
+  fs::create_directories(dir);
+  const std::string cmd = std::string(SEAR_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
+                          (dir / "err").string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read(dir / "out"), read(dir / "err")};
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("sear_cli_" + std::to_string(getpid()) + "_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+TEST(SearCli, DefaultProjectRunsAreByteIdentical) {
+  const fs::path a = fresh_dir("det_a"), b = fresh_dir("det_b");
+  ASSERT_EQ(sear("run --quiet --duration 12 -o " + a.string()).exit_code, 0);
+  ASSERT_EQ(sear("run --quiet --duration 12 -o " + b.string()).exit_code, 0);
+  const std::string trace = read(a / "trace_rover.csv");
+  // 12 s at the default project's 50 rows per second, plus the header and the row at t = 0.
+  EXPECT_EQ(std::count(trace.begin(), trace.end(), '\n'), 12 * 50 + 2);
+  EXPECT_EQ(trace, read(b / "trace_rover.csv"));
+  auto ja = nlohmann::json::parse(read(a / "summary.json"));
+  auto jb = nlohmann::json::parse(read(b / "summary.json"));
+  for (auto* j : {&ja, &jb}) {
+    j->erase("wall_time_s");  // the only field that depends on the host
+    j->erase("real_time_factor");
+  }
+  EXPECT_EQ(ja, jb);
+  EXPECT_EQ(ja["status"], "completed");
+  EXPECT_DOUBLE_EQ(ja["sim_time_s"].get<double>(), 12.0);
+  EXPECT_EQ(ja["steps"], 12000);
+  // The scripted rover drives into the crate at about 5.5 s.
+  ASSERT_GE(ja["collision_events"].size(), 1u);
+  EXPECT_EQ(ja["collision_events"][0]["other"], "crate");
+}
+
+TEST(SearCli, SummaryDistanceMatchesTheTrace) {
+  const fs::path out = fresh_dir("distance");
+  ASSERT_EQ(sear("run --quiet --duration 5 --trace-rate 1000 -o " + out.string()).exit_code, 0);
+  std::istringstream rows(read(out / "trace_rover.csv"));
+  std::string line;
+  std::getline(rows, line);
+  double path = 0, px = 0, py = 0;
+  bool first = true;
+  while (std::getline(rows, line)) {
+    double t, x, y;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf", &t, &x, &y), 3);
+    if (!first) path += std::hypot(x - px, y - py);
+    px = x, py = y, first = false;
+  }
+  const auto summary = nlohmann::json::parse(read(out / "summary.json"));
+  // A trace row every step: the same path, up to the trace's 1 um rounding per row.
+  EXPECT_NEAR(summary["robots"][0]["distance_m"].get<double>(), path, 5e-3);
+  EXPECT_GT(path, 2.0);
+}
+
+TEST(SearCli, CheckListsEveryErrorAndFails) {
+  const fs::path dir = fresh_dir("check");
+  fs::create_directories(dir);
+  std::ofstream(dir / "project.xml") << R"(<project>
+  <world>
+    <boxx pos="1 1"/>
+    <tree pos="2 2" trunk_radius="-1"/>
+  </world>
+  <robot file=")" << SEAR_ASSET_DIR << R"(/robots/rover.xml" colour="red"/>
+</project>
+)";
+  const Result r = sear("check " + dir.string());  // a folder means its project.xml
+  EXPECT_EQ(r.exit_code, 1);
+  const std::string file = (dir / "project.xml").string();
+  EXPECT_NE(r.err.find(file + ":3: error: unknown element <boxx> in <world> (did you mean 'box'?)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(file + ":4: error: <tree> attribute 'trunk_radius': -1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(file + ":6: error: unknown attribute 'colour' on <robot>"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(file + ": 3 errors"), std::string::npos) << r.err;
+  EXPECT_EQ(sear("run " + dir.string()).exit_code, 1);
+}
+
+TEST(SearCli, CheckAcceptsTheBundledProject) {
+  const Result r = sear("check");
+  EXPECT_NE(r.exit_code, 0);  // the project argument is required
+  const Result ok = sear(std::string("check ") + SEAR_ASSET_DIR + "/projects/default.xml");
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("ok (1 robot"), std::string::npos);
+}
+
+TEST(SearCli, HelpNamesEveryRunOption) {
+  const Result r = sear("run --help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* option : {"--duration", "--seed", "--out", "--trace-rate", "--quiet"})
+    EXPECT_NE(r.out.find(option), std::string::npos) << option;
+}
+
+TEST(SearCli, InterruptedRunKeepsCompleteFiles) {
+  const fs::path out = fresh_dir("interrupt");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const std::string dir = out.string();
+    const int devnull = ::open("/dev/null", O_WRONLY);
+    dup2(devnull, 1);
+    execl(SEAR_BINARY, "sear", "run", "--quiet", "--duration", "100000", "-o", dir.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until it has written some trace, then interrupt it as Ctrl-C would.
+  for (int i = 0; i < 200 && (!fs::exists(out / "trace_rover.csv") || fs::file_size(out / "trace_rover.csv") < 100000); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  kill(child, SIGINT);
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const auto summary = nlohmann::json::parse(read(out / "summary.json"));
+  EXPECT_EQ(summary["status"], "interrupted");
+  const std::string trace = read(out / "trace_rover.csv");
+  ASSERT_FALSE(trace.empty());
+  EXPECT_EQ(trace.back(), '\n');  // the last row is whole
+  const double sim_time = summary["sim_time_s"].get<double>();
+  const auto last_row = trace.substr(trace.rfind('\n', trace.size() - 2) + 1);
+  EXPECT_NEAR(std::stod(last_row), sim_time, 0.02 + 1e-9);  // the trace reaches where the run stopped
+}
+
+}  // namespace
