@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs the Debian packages SEAR builds and tests with, only those missing; silent when all are there.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libode-dev libassimp-dev libeigen3-dev libtinyxml2-dev libstb-dev
+  libcli11-dev libfmt-dev nlohmann-json3-dev
+  libgtest-dev libbenchmark-dev
+  clang libclang-rt-14-dev   # libFuzzer for the project-file fuzz target
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null || true)
+  [ "$status" = "installed" ] || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "SEAR: installing missing Debian packages: ${missing[*]}"
+if [ "$(id -u)" -eq 0 ]; then
+  as_root=()
+elif command -v sudo >/dev/null 2>&1; then
+  as_root=(sudo)
+else
+  echo "SEAR: these packages are missing and installing them needs root:" >&2
+  echo "  apt-get install ${missing[*]}" >&2
+  exit 1
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${as_root[@]}" apt-get update -qq
+"${as_root[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
