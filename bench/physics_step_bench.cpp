@@ -36,7 +36,7 @@ void BM_DefaultProjectStep(benchmark::State& state) {
       benchmark::Counter(step_s * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.SetLabel("solver_iterations=" + std::to_string(project.world.solver_iterations));
 }
-BENCHMARK(BM_DefaultProjectStep)->Arg(0)->Arg(10)->Arg(50)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+BENCHMARK(BM_DefaultProjectStep)->Arg(0)->Arg(10)->Arg(50)->Arg(200)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 
 }  // namespace
 

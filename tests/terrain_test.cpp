@@ -1,5 +1,6 @@
 // Terrain: heightmap orientation and a rover riding it, mesh terrain, and Coulomb friction on a slope.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -20,7 +21,8 @@ double plane_height(double x, double y) { return 1.0 + 0.1 * y + 0.05 * x; }
 
 // A 16-bit binary PGM of that plane over 20 x 20 m, row 0 the north edge; heights -0.5..2.5 m.
 std::string write_plane_pgm() {
-  const auto path = std::filesystem::temp_directory_path() / "sear_plane_heightmap.pgm";
+  // One file per process: ctest runs these tests in parallel.
+  const auto path = std::filesystem::temp_directory_path() / ("sear_plane_heightmap_" + std::to_string(getpid()) + ".pgm");
   constexpr int n = 65;
   std::ofstream out(path, std::ios::binary);
   out << "P5\n" << n << " " << n << "\n65535\n";

@@ -52,6 +52,9 @@ void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics) {
                                    [&](const WheelDesc& wd) { return wd.name == w; });
       if (steer && it != robot.wheels.end() && !it->steered)
         fail(s.source, fmt::format("servo '{}' steers wheel '{}', which is not marked steered=\"true\"", s.name, w));
+      if (!steer && it != robot.wheels.end() && it->steered)
+        fail(s.source, fmt::format("continuous servo '{}' cannot drive steered wheel '{}'; drive it with a <motor>",
+                                   s.name, w));
     }
   }
 
