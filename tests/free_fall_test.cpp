@@ -26,6 +26,9 @@ TEST(FreeFall, FollowsHalfGTSquaredWithinOnePercent) {
     const double expected_drop = 0.5 * g * t * t;  // 44.1 m at 3 s: still in the air
     const double drop = z0 - dBodyGetPosition(body)[2];
     EXPECT_NEAR(drop, expected_drop, 0.01 * expected_drop) << "t = " << t;
+    // Exactly what ODE's semi-implicit Euler integrates: v_n = -g h n, z_n = z0 - g h^2 n (n + 1) / 2.
+    const double n = step, h = 1e-3;
+    EXPECT_NEAR(drop, g * h * h * n * (n + 1) / 2, 1e-9 * expected_drop) << "t = " << t;
     EXPECT_NEAR(dBodyGetLinearVel(body)[2], -g * t, 0.01 * g * t) << "t = " << t;
     EXPECT_NEAR(dBodyGetPosition(body)[0], 0.0, 1e-12);  // nothing pushes it sideways
   }

@@ -12,11 +12,14 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.hpp"
 #include "scene/heightmap_image.hpp"
 #include "scene/mesh_loader.hpp"
 
 namespace sear {
 namespace {
+
+using sear::test::TempDir;
 
 namespace fs = std::filesystem;
 
@@ -89,48 +92,12 @@ TEST(MeshLoader, MissingFileGivesAnError) {
   EXPECT_FALSE(loaded.error.empty());
 }
 
-// A folder of its own for one test, removed again when the test ends.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const std::string test = info ? info->name() : "test";
-    std::random_device random;
-    const auto now = static_cast<unsigned long long>(std::chrono::steady_clock::now().time_since_epoch().count());
-    for (int attempt = 0;; ++attempt) {
-      const fs::path candidate = fs::temp_directory_path() / ("sear_heightmap_" + test + "_" + std::to_string(now) +
-                                                              "_" + std::to_string(random()));
-      if (fs::create_directory(candidate)) {
-        path_ = candidate;
-        break;
-      }
-      if (attempt > 100) throw std::runtime_error("cannot create a temporary folder");
-    }
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  std::string write(const std::string& name, const std::string& header, const std::vector<std::uint8_t>& bytes) const {
-    const fs::path file = path_ / name;
-    std::ofstream out(file, std::ios::binary);
-    out << header;
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    return file.string();
-  }
-
- private:
-  fs::path path_;
-};
 
 TEST(HeightmapImage, EightBitPgmKeepsRowOrderAndLevels) {
   TempDir dir;
   // 3 columns, 2 rows; row 0 is the first row in the file.
   const std::vector<std::uint8_t> bytes = {0, 128, 255, 10, 20, 30};
-  const std::string path = dir.write("small.pgm", "P5\n3 2\n255\n", bytes);
+  const std::string path = dir.write("small.pgm", "P5\n3 2\n255\n" + std::string(bytes.begin(), bytes.end()));
   const HeightmapImage image = load_heightmap_image(path);
   ASSERT_TRUE(image.error.empty()) << image.error;
   EXPECT_EQ(image.columns, 3);
@@ -148,7 +115,7 @@ TEST(HeightmapImage, SixteenBitPgmIsReadMostSignificantByteFirst) {
     bytes.push_back(static_cast<std::uint8_t>(v >> 8));
     bytes.push_back(static_cast<std::uint8_t>(v & 0xffu));
   }
-  const std::string path = dir.write("deep.pgm", "P5\n2 2\n65535\n", bytes);
+  const std::string path = dir.write("deep.pgm", "P5\n2 2\n65535\n" + std::string(bytes.begin(), bytes.end()));
   const HeightmapImage image = load_heightmap_image(path);
   ASSERT_TRUE(image.error.empty()) << image.error;
   EXPECT_EQ(image.columns, 2);
@@ -158,9 +125,30 @@ TEST(HeightmapImage, SixteenBitPgmIsReadMostSignificantByteFirst) {
     EXPECT_NEAR(image.levels[i], values[i] / 65535.0, 1e-12) << "sample " << i;
 }
 
+// Levels are samples over maxval, whatever maxval the file states (Netpbm allows 1..65535):
+// a 10-bit map (maxval 1023, a comment in its header) and a 100-level 8-bit one.
+TEST(HeightmapImage, PgmLevelsAreScaledByMaxval) {
+  TempDir dir;
+  const std::vector<unsigned> ten_bit = {0, 1023, 512, 100};
+  std::string bytes;
+  for (const unsigned v : ten_bit) bytes += {static_cast<char>(v >> 8), static_cast<char>(v & 0xffu)};
+  const HeightmapImage deep = load_heightmap_image(dir.write("ten_bit.pgm", "P5\n# from a DEM\n2 2\n1023\n" + bytes));
+  ASSERT_TRUE(deep.error.empty()) << deep.error;
+  for (std::size_t i = 0; i < ten_bit.size(); ++i) EXPECT_NEAR(deep.levels[i], ten_bit[i] / 1023.0, 1e-12) << i;
+
+  const HeightmapImage shallow =
+      load_heightmap_image(dir.write("hundred.pgm", std::string("P5\n2 2\n100\n\x32\x64\x00\x19", 15)));
+  ASSERT_TRUE(shallow.error.empty()) << shallow.error;
+  ASSERT_EQ(shallow.levels.size(), 4u);
+  EXPECT_NEAR(shallow.levels[0], 0.5, 1e-12);
+  EXPECT_NEAR(shallow.levels[1], 1.0, 1e-12);
+  EXPECT_NEAR(shallow.levels[2], 0.0, 1e-12);
+  EXPECT_NEAR(shallow.levels[3], 0.25, 1e-12);
+}
+
 TEST(HeightmapImage, TooSmallImageIsAnError) {
   TempDir dir;
-  const std::string path = dir.write("line.pgm", "P5\n3 1\n255\n", {1, 2, 3});
+  const std::string path = dir.write("line.pgm", std::string("P5\n3 1\n255\n\x01\x02\x03", 14));
   const HeightmapImage image = load_heightmap_image(path);
   EXPECT_FALSE(image.error.empty());
 }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.hpp"
 #include "scene/diagnostics.hpp"
 #include "scene/geodetic.hpp"
 #include "scene/project_loader.hpp"
@@ -19,48 +20,12 @@
 namespace sear {
 namespace {
 
+using sear::test::TempDir;
+
 namespace fs = std::filesystem;
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A folder of its own for one test, removed again when the test ends.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const std::string test = info ? info->name() : "test";
-    std::random_device random;
-    const auto now = static_cast<unsigned long long>(std::chrono::steady_clock::now().time_since_epoch().count());
-    for (int attempt = 0;; ++attempt) {
-      const fs::path candidate = fs::temp_directory_path() / ("sear_project_errors_" + test + "_" +
-                                                              std::to_string(now) + "_" + std::to_string(random()));
-      if (fs::create_directory(candidate)) {
-        path_ = candidate;
-        break;
-      }
-      if (attempt > 100) throw std::runtime_error("cannot create a temporary folder");
-    }
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  const fs::path& path() const { return path_; }
-
-  // Writes `text` to `name` inside the folder; returns the file's full path.
-  std::string write(const std::string& name, const std::string& text) const {
-    const fs::path file = path_ / name;
-    std::ofstream out(file, std::ios::binary);
-    out << text;
-    return file.string();
-  }
-
- private:
-  fs::path path_;
-};
 
 // 1-based line of the first occurrence of `needle` in `text`, 0 when absent.
 int line_of(const std::string& text, const std::string& needle) {
@@ -573,6 +538,94 @@ TEST(ProjectErrors, LatitudeLongitudePoseLandsWhereTheTangentPlaneSays) {
   EXPECT_NEAR(robot.start_xy_m.y(), 0.0009 * 111.26e3, 1.0);
   EXPECT_NEAR(robot.start_xy_m.x(), 0.0014 * 111.32e3 * std::cos(52.2058 * kPi / 180.0), 1.0);
   EXPECT_NEAR(robot.start_yaw_rad, kPi / 2.0, 1e-12);
+}
+
+TEST(ProjectErrors, NamesMustBeUsableAsFileNames) {
+  TempDir dir;
+  // Robot names become trace file names: a path in one must not reach outside the output folder.
+  const std::string xml = replaced(kGoodProject, R"(<robot name="bot")", R"(<robot name="../bot")");
+  const Loaded l = load(dir, xml);
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "<robot name"),
+                      {"name '../bot': use letters, digits, '_' and '-' only"}));
+}
+
+TEST(ProjectErrors, ObstacleAndRobotNamesAreUnique) {
+  TempDir dir;
+  const std::string xml = replaced(kGoodProject, kWorldEnd, R"(    <wall name="bot" from="0 5" to="5 5"/>
+    <box name="crate" pos="-3 0" size="1 1 1"/>
+)" + kWorldEnd);
+  const Loaded l = load(dir, xml);
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_EQ(l.diagnostics.all().size(), 2u) << l.diagnostics.joined();
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, R"(<box name="crate" pos="-3)"),
+                      {"box name 'crate' is already used"}));
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "<robot name"), {"robot name 'bot' is already used"}));
+}
+
+TEST(ProjectErrors, ARobotNeedsOneChassisAndOnePose) {
+  TempDir dir;
+  std::string xml = replaced(kGoodProject, "    " + kChassis + "\n", "");
+  xml = replaced(xml, R"(    <pose x="1" y="2" yaw_deg="0"/>)", R"(    <pose x="1" y="2" yaw_deg="0"/>
+    <pose x="5" y="5"/>)");
+  const Loaded l = load(dir, xml);
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "<robot name"), {"<robot> needs a <chassis>"}));
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, R"(<pose x="5")"),
+                      {"<pose> may appear only once in <robot> (first at line " +
+                       std::to_string(line_of(xml, R"(<pose x="1")")) + ")"}));
+}
+
+TEST(ProjectErrors, SteeredTakesTrueOrFalseOnly) {
+  TempDir dir;
+  const std::string xml = replaced(kGoodProject, kLeftWheel, kLeftWheel + R"( steered="yes")");
+  const Loaded l = load(dir, xml);
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, kLeftWheel), {"'steered': 'yes' is not one of false, true"}));
+}
+
+TEST(ProjectErrors, AckermannSteersTheFrontAndServosCannotDriveSteeredWheels) {
+  TempDir dir;
+  // The bundled car with its steered wheels moved behind the driven ones, and a continuous
+  // servo on a steered wheel.
+  std::string car = dir.write("car.xml", R"(<robot name="car" drive="ackermann">
+  <material name="rubber" friction="1.0"/>
+  <chassis shape="box" size="0.40 0.18 0.06" mass="1.8"/>
+  <wheel name="fl" pos="-0.13 0.10 -0.02" radius="0.05" steered="true" material="rubber"/>
+  <wheel name="fr" pos="-0.13 -0.10 -0.02" radius="0.05" steered="true" material="rubber"/>
+  <wheel name="rl" pos="0.13 0.10 -0.02" radius="0.05" material="rubber"/>
+  <wheel name="rr" pos="0.13 -0.10 -0.02" radius="0.05" material="rubber"/>
+  <servo name="steering" kind="positional" steers="fl fr"/>
+  <servo name="spin" kind="continuous" wheels="fl"/>
+  <motor name="drive" wheels="rl rr" stall_torque="1" no_load_rpm="300"/>
+</robot>
+)");
+  const std::string xml = "<project>\n" + kWorldForRobotFiles + R"(  <robot file="car.xml"/>
+</project>
+)";
+  const Loaded l = load(dir, xml);
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "<robot file"), {"steers the front wheels"}));
+  EXPECT_TRUE(reports(l.diagnostics, car, 9, {"continuous servo 'spin' cannot drive steered wheel 'fl'"}));
+}
+
+TEST(ProjectErrors, TimesBeyondTenMillionSecondsAreRejected) {
+  TempDir dir;
+  const std::string xml = replaced(kGoodProject, R"(<run duration="5")", R"(<run duration="1e300")");
+  const Loaded l = load(dir, xml);
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "<run"), {"'duration': 1e300 s is out of range"}));
+}
+
+TEST(ProjectErrors, MotorVoltagesAreRead) {
+  TempDir dir;
+  const std::string xml = replaced(kGoodProject, R"(<motor name="left_motor" wheels="left")",
+                                   R"(<motor name="left_motor" wheels="left" rated_voltage="6" supply_voltage="9")");
+  const Loaded l = load(dir, xml);
+  ASSERT_TRUE(l.project.has_value()) << l.diagnostics.joined();
+  EXPECT_EQ(l.project->robots[0].motors[0].rated_voltage_v, 6.0);
+  EXPECT_EQ(l.project->robots[0].motors[0].supply_voltage_v, 9.0);
+  EXPECT_EQ(l.project->robots[0].motors[1].supply_voltage_v, l.project->robots[0].motors[1].rated_voltage_v);
 }
 
 }  // namespace

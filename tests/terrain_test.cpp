@@ -55,6 +55,9 @@ TEST(Terrain, HeightmapIsNorthUpAndEastRight) {
 }
 
 TEST(Terrain, RoverHeightFollowsTheHeightmap) {
+  struct RemoveMap {
+    ~RemoveMap() { std::filesystem::remove(std::filesystem::temp_directory_path() / ("sear_plane_heightmap_" + std::to_string(getpid()) + ".pgm")); }
+  } remove_map;
   const ProjectDesc project = test::project_from_xml(
       heightmap_world(R"(<robot file="../robots/rover.xml"><pose x="0" y="-5" yaw_deg="90"/></robot>)"));
   Simulation sim(project, 1);

@@ -38,7 +38,9 @@ void run_for(Simulation& sim, double seconds, const std::function<void()>& each_
 
 void drive(Simulation& sim, const std::string& motor, double duty, MotorDirection direction) {
   Vehicle& v = sim.robot(0);
-  v.command_motor(static_cast<std::size_t>(v.motor_index(motor)), {duty, direction});
+  const int index = v.motor_index(motor);
+  if (index < 0) throw std::invalid_argument("robot '" + v.desc().name + "' has no motor '" + motor + "'");
+  v.command_motor(static_cast<std::size_t>(index), {duty, direction});
 }
 
 }  // namespace sear::test

@@ -23,7 +23,8 @@ constexpr double kContactCfm = 1e-5;
 
 }  // namespace
 
-PhysicsWorld::PhysicsWorld(const WorldDesc& desc, std::uint64_t seed) : desc_(desc), step_s_(desc.step_s) {
+PhysicsWorld::PhysicsWorld(const WorldDesc& desc, std::uint64_t seed)
+    : materials_(desc.materials), step_s_(desc.step_s) {
   ensure_ode();
   // QuickStep shuffles its constraints with ODE's own generator: seeding it makes runs repeat.
   dRandSetSeed(static_cast<unsigned long>(seed));
@@ -54,8 +55,8 @@ dHeightfieldDataID PhysicsWorld::add_heightfield_data() {
 }
 
 int PhysicsWorld::material_index(const std::string& name) const {
-  for (std::size_t i = 0; i < desc_.materials.size(); ++i)
-    if (desc_.materials[i].name == name) return static_cast<int>(i);
+  for (std::size_t i = 0; i < materials_.size(); ++i)
+    if (materials_[i].name == name) return static_cast<int>(i);
   throw std::logic_error("material '" + name + "' was not validated by the loader");
 }
 
@@ -85,6 +86,7 @@ double PhysicsWorld::terrain_height(double x, double y, double fallback) const {
   constexpr double kTop = 1e4;
   dGeomID ray = dCreateRay(nullptr, 2 * kTop);
   dGeomRaySet(ray, x, y, kTop, 0, 0, -1);
+  dGeomRaySetClosestHit(ray, 1);  // a mesh may have several faces above each other: take the top one
   dContactGeom hit;
   const int n = dCollide(ray, terrain_geom_, 1, &hit, sizeof(dContactGeom));
   dGeomDestroy(ray);
@@ -107,8 +109,8 @@ void PhysicsWorld::collide_pair(dGeomID a, dGeomID b) {
   const int n = dCollide(a, b, kMaxContacts, geoms, sizeof(dContactGeom));
   if (n == 0) return;
 
-  const Material& ma = desc_.materials[static_cast<std::size_t>(ta->material)];
-  const Material& mb = desc_.materials[static_cast<std::size_t>(tb->material)];
+  const Material& ma = materials_[static_cast<std::size_t>(ta->material)];
+  const Material& mb = materials_[static_cast<std::size_t>(tb->material)];
   const bool caster = ta->role == GeomRole::Caster || tb->role == GeomRole::Caster;
   dSurfaceParameters surface{};
   surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;

@@ -42,7 +42,6 @@ class PhysicsWorld {
   dSpaceID static_space() const { return static_space_; }
   dSpaceID dynamic_space() const { return dynamic_space_; }
   double step_s() const { return step_s_; }
-  const WorldDesc& desc() const { return desc_; }
 
   int material_index(const std::string& name) const;
   int add_entity(const std::string& name);  // an obstacle or robot that collisions are reported against
@@ -64,7 +63,7 @@ class PhysicsWorld {
   static void near_callback(void* self, dGeomID a, dGeomID b);
   void collide_pair(dGeomID a, dGeomID b);
 
-  WorldDesc desc_;
+  std::vector<Material> materials_;
   double step_s_;
   dWorldID world_;
   dSpaceID static_space_;

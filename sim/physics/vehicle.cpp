@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "physics/ackermann.hpp"
 #include "physics/servo.hpp"
@@ -32,20 +33,24 @@ void set_rotation(dBodyID body, const Eigen::Matrix3d& m) {
 }  // namespace
 
 Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
-    : physics_(physics),
-      desc_(desc),
+    : desc_(desc),
       entity_(physics.add_entity(desc.name)),
       motor_commands_(desc.motors.size()),
       servo_pulses_(desc.servos.size()),
       servo_angles_(desc.servos.size(), 0.0) {
   for (std::size_t i = 0; i < desc.servos.size(); ++i) servo_pulses_[i] = servo_center_pulse_us(desc.servos[i]);
 
-  // Lowest point of the robot below its chassis origin decides how high it starts.
-  double lowest = -0.5 * desc.chassis.size_m.z();
-  for (const auto& w : desc.wheels) lowest = std::min(lowest, w.position_m.z() - w.radius_m);
-  for (const auto& c : desc.casters) lowest = std::min(lowest, c.position_m.z() - c.radius_m);
+  // It starts level, just clear of the terrain under each wheel, caster and the chassis centre.
   const Eigen::Vector2d xy = desc.start_xy_m;
-  const Eigen::Vector3d origin(xy.x(), xy.y(), physics.terrain_height(xy.x(), xy.y()) - lowest + kSpawnClearance_m);
+  const Eigen::Matrix2d yaw2 = Eigen::Rotation2Dd(desc.start_yaw_rad).toRotationMatrix();
+  double origin_z = physics.terrain_height(xy.x(), xy.y()) - desc.chassis.bottom_z_m;
+  const auto clear = [&](const Eigen::Vector3d& p, double radius) {
+    const Eigen::Vector2d ground_xy = xy + yaw2 * p.head<2>();
+    origin_z = std::max(origin_z, physics.terrain_height(ground_xy.x(), ground_xy.y()) - (p.z() - radius));
+  };
+  for (const auto& w : desc.wheels) clear(w.position_m, w.radius_m);
+  for (const auto& c : desc.casters) clear(c.position_m, c.radius_m);
+  const Eigen::Vector3d origin(xy.x(), xy.y(), origin_z + kSpawnClearance_m);
   const Eigen::Matrix3d yaw = Eigen::AngleAxisd(desc.start_yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 
   chassis_ = dBodyCreate(physics.world());
@@ -118,11 +123,20 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
     wheels_.push_back(wheel);
   }
 
-  // Gearbox friction holds each driven wheel until the torque on it exceeds its share.
   for (const auto& m : desc.motors) {
-    const double share = m.gear_friction_nm / static_cast<double>(m.wheels.size());
-    for (const auto& name : m.wheels) {
-      const Wheel& wheel = wheels_[wheel_index(name)];
+    motor_wheels_.emplace_back();
+    for (const auto& name : m.wheels) motor_wheels_.back().push_back(wheel_index(name));
+  }
+  for (const auto& s : desc.servos) {
+    servo_wheels_.emplace_back();
+    for (const auto& name : s.wheels) servo_wheels_.back().push_back(wheel_index(name));
+  }
+
+  // Gearbox friction holds each driven wheel until the torque on it exceeds its share.
+  for (std::size_t m = 0; m < desc.motors.size(); ++m) {
+    const double share = desc.motors[m].gear_friction_nm / static_cast<double>(motor_wheels_[m].size());
+    for (std::size_t w : motor_wheels_[m]) {
+      const Wheel& wheel = wheels_[w];
       if (wheel.steered) {
         dJointSetHinge2Param(wheel.joint, dParamVel2, 0);
         dJointSetHinge2Param(wheel.joint, dParamFMax2, share);
@@ -143,7 +157,7 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
 std::size_t Vehicle::wheel_index(const std::string& name) const {
   for (std::size_t i = 0; i < desc_.wheels.size(); ++i)
     if (desc_.wheels[i].name == name) return i;
-  return 0;  // unreachable: the loader checked every wheel name
+  throw std::logic_error("robot '" + desc_.name + "': wheel '" + name + "' was not validated by the loader");
 }
 
 int Vehicle::motor_index(const std::string& name) const {
@@ -174,16 +188,15 @@ void Vehicle::apply_actuators(double dt_s) {
     dBodySetFiniteRotationAxis(wheels_[i].body, axle.x(), axle.y(), axle.z());
   }
 
-  // A motor driving several wheels (a chain, or an open differential) turns at their mean speed
+  // A motor driving several wheels acts through an open differential: it turns at their mean speed
   // and splits its torque evenly between them.
   for (std::size_t m = 0; m < desc_.motors.size(); ++m) {
-    const MotorDesc& motor = desc_.motors[m];
+    const auto& driven = motor_wheels_[m];
     double omega = 0;
-    for (const auto& name : motor.wheels) omega += wheel_speed(wheel_index(name));
-    omega /= static_cast<double>(motor.wheels.size());
-    const double share = dc_motor_torque(motor, motor_commands_[m], omega) / static_cast<double>(motor.wheels.size());
-    for (const auto& name : motor.wheels) {
-      const std::size_t w = wheel_index(name);
+    for (std::size_t w : driven) omega += wheel_speed(w);
+    omega /= static_cast<double>(driven.size());
+    const double share = dc_motor_torque(desc_.motors[m], motor_commands_[m], omega) / static_cast<double>(driven.size());
+    for (std::size_t w : driven) {
       const Eigen::Vector3d torque = share * axle_world(w);
       dBodyAddTorque(wheels_[w].body, torque.x(), torque.y(), torque.z());
       dBodyAddTorque(chassis_, -torque.x(), -torque.y(), -torque.z());
@@ -194,16 +207,14 @@ void Vehicle::apply_actuators(double dt_s) {
     const ServoDesc& servo = desc_.servos[s];
     if (servo.kind == ServoDesc::Kind::Continuous) {
       const double speed = servo_target_speed(servo, servo_pulses_[s]);
-      for (const auto& name : servo.wheels) {
-        const Wheel& wheel = wheels_[wheel_index(name)];
-        dJointSetHingeParam(wheel.joint, dParamVel, speed);
-        dJointSetHingeParam(wheel.joint, dParamFMax, servo.torque_nm);
+      for (std::size_t w : servo_wheels_[s]) {
+        dJointSetHingeParam(wheels_[w].joint, dParamVel, speed);
+        dJointSetHingeParam(wheels_[w].joint, dParamFMax, servo.torque_nm);
       }
       continue;
     }
     servo_angles_[s] = servo_slew(servo, servo_angles_[s], servo_target_angle(servo, servo_pulses_[s]), dt_s);
-    for (const auto& name : servo.wheels) {
-      const std::size_t w = wheel_index(name);
+    for (std::size_t w : servo_wheels_[s]) {
       const double target = ackermann_wheel_angle(servo_angles_[s], wheelbase_m_, desc_.wheels[w].position_m.y());
       // ODE measures the hinge-2 angle and its motor speed as the chassis (body 1) relative to the
       // wheel: the wheel's own steer to the left is the negative of both.

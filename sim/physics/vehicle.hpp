@@ -50,11 +50,12 @@ class Vehicle {
   Eigen::Vector3d axle_world(std::size_t wheel) const;
   std::size_t wheel_index(const std::string& name) const;
 
-  const PhysicsWorld& physics_;
   RobotDesc desc_;
   int entity_;
   dBodyID chassis_;
   std::vector<Wheel> wheels_;
+  std::vector<std::vector<std::size_t>> motor_wheels_;  // indices into wheels_, resolved once
+  std::vector<std::vector<std::size_t>> servo_wheels_;
   std::vector<DcMotorCommand> motor_commands_;
   std::vector<double> servo_pulses_;
   std::vector<double> servo_angles_;  // positional servos' present output angle

@@ -13,6 +13,11 @@
 
 namespace sear {
 
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+// Longest time a run or a scripted command may name: times become integer nanoseconds.
+constexpr double kMaxTime_s = 1e7;
+
 // Where a part was described, so that later checks can point at it.
 struct SourceRef {
   std::string file;
@@ -47,6 +52,7 @@ struct TerrainDesc {
 
 struct BoxDesc {
   std::string name;
+  int line = 0;  // in the project file
   Eigen::Vector3d size_m{1, 1, 1};
   Eigen::Vector2d xy_m{0, 0};
   double z_m = 0;            // centre height; ignored when on_ground
@@ -58,6 +64,7 @@ struct BoxDesc {
 
 struct TreeDesc {
   std::string name;
+  int line = 0;  // in the project file
   Eigen::Vector2d xy_m{0, 0};
   double trunk_radius_m = 0.1;
   double trunk_height_m = 2.0;
@@ -67,6 +74,7 @@ struct TreeDesc {
 
 struct WallDesc {
   std::string name;
+  int line = 0;  // in the project file
   Eigen::Vector2d from_m{0, 0};
   Eigen::Vector2d to_m{1, 0};
   double height_m = 1.0;
@@ -76,6 +84,7 @@ struct WallDesc {
 
 struct MeshObstacleDesc {
   std::string name;
+  int line = 0;  // in the project file
   Eigen::Vector2d xy_m{0, 0};
   double yaw_rad = 0;
   TriangleMesh mesh;  // robot-independent, base at z = 0; placed on the terrain
@@ -106,6 +115,7 @@ struct ChassisDesc {
   double mass_kg = 1.0;
   std::string material = "default";
   TriangleMesh mesh;
+  double bottom_z_m = -0.04;  // lowest point below the chassis origin (box: -size.z / 2)
 };
 
 struct WheelDesc {
@@ -129,10 +139,12 @@ struct CasterDesc {
 struct MotorDesc {
   std::string name;
   SourceRef source;
-  std::vector<std::string> wheels;  // several wheels share its torque (chain, or open differential)
-  double stall_torque_nm = 0.5;
-  double no_load_speed_radps = 20;
-  double supply_voltage_v = 6;
+  // Several wheels share it as through an open differential: even torque split, mean speed.
+  std::vector<std::string> wheels;
+  double stall_torque_nm = 0.5;     // at rated_voltage_v
+  double no_load_speed_radps = 20;  // at rated_voltage_v
+  double rated_voltage_v = 6;       // the datasheet's test voltage
+  double supply_voltage_v = 6;      // the H-bridge's supply; stall torque and free speed scale with it
   double gear_friction_nm = 0;  // Coulomb friction of the gearbox, holds the wheels when unpowered
 };
 

@@ -1,6 +1,6 @@
 // Reads one XML element of a project file with validation: every attribute a parser asks for is
-// checked (number, range, unit hint) and remembered, so finish() can name the attributes and
-// child elements nobody asked for, with the nearest valid name.
+// checked (number, range, unit hint) and remembered, so finish() can name the attributes nobody
+// asked for, with the nearest valid name; children() does the same for child elements.
 #pragma once
 
 #include <Eigen/Core>

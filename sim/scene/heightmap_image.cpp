@@ -2,6 +2,8 @@
 
 #include <stb/stb_image.h>
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <memory>
 
@@ -23,12 +25,23 @@ bool stb_swaps_16bit_pgm() {
   return swaps;
 }
 
-bool is_binary_pgm(const std::string& path) {
+// The maxval of a binary PGM (P5), or 0 for any other file. stb returns PGM samples as stored,
+// without scaling them by maxval, so a 10-bit (maxval 1023) map would otherwise look nearly flat.
+// Read by hand: stb does not report maxval, and libnetpbm exits the process on a malformed file.
+unsigned pgm_maxval(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
   char magic[2] = {};
-  std::ifstream(path, std::ios::binary).read(magic, 2);
-  return magic[0] == 'P' && magic[1] == '5';
+  in.read(magic, 2);
+  if (!in || magic[0] != 'P' || magic[1] != '5') return 0;
+  unsigned fields[3] = {};
+  for (unsigned& field : fields) {
+    while (in && (std::isspace(in.peek()) || in.peek() == '#')) {
+      if (in.get() == '#') in.ignore(1 << 16, '\n');  // a comment runs to the end of its line
+    }
+    if (!(in >> field)) return 0;
+  }
+  return fields[2];
 }
-
 }  // namespace
 
 HeightmapImage load_heightmap_image(const std::string& path) {
@@ -47,10 +60,14 @@ HeightmapImage load_heightmap_image(const std::string& path) {
   }
   const auto count = static_cast<std::size_t>(out.columns) * static_cast<std::size_t>(out.rows);
   out.levels.resize(count);
-  const bool swap = is_binary_pgm(path) && stbi_is_16_bit(path.c_str()) && stb_swaps_16bit_pgm();
+  const unsigned maxval = pgm_maxval(path);
+  const bool wide = maxval > 255;
+  const bool swap = wide && stb_swaps_16bit_pgm();
+  // stbi_load_16 widens 8-bit samples by 257 (0xff -> 0xffff); 16-bit PGM samples come as stored.
+  const double full_scale = maxval == 0 ? 65535.0 : wide ? maxval : 257.0 * maxval;
   for (std::size_t i = 0; i < count; ++i) {
     const unsigned v = pixels.get()[i];
-    out.levels[i] = (swap ? ((v & 0xffu) << 8 | v >> 8) : v) / 65535.0;
+    out.levels[i] = std::min(1.0, (swap ? ((v & 0xffu) << 8 | v >> 8) : v) / full_scale);
   }
   return out;
 }

@@ -15,6 +15,21 @@ namespace sear {
 // A path written in `file`, taken relative to that file's folder.
 std::string path_beside(const std::string& file, const std::string& relative);
 
+// A <material> element.
+Material read_material_element(ElementReader& r);
+
+// The mesh named by an element's `file`, `up_axis` and `scale` attributes; errors name the element.
+// `bounds_min`/`bounds_max` receive its bounding box when given.
+TriangleMesh read_mesh_file(ElementReader& r, Eigen::Vector3f* bounds_min = nullptr,
+                            Eigen::Vector3f* bounds_max = nullptr);
+
+// Names of robots and obstacles become file names and column names: letters, digits, '_' and '-'.
+void check_name(ElementReader& r, const std::string& name);
+
+// Reports a second `kind` child of `element`: some elements may appear only once.
+void check_at_most_one(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
+                       std::initializer_list<const char*> kinds);
+
 void read_world(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
                 WorldDesc& world);
 

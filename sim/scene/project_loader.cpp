@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -48,7 +49,8 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
       if (&child != world) diagnostics.error(path, child.GetLineNum(), "a project has one <world>");
     } else if (kind == "run") {
       ElementReader c(&child, path, diagnostics);
-      project.run.duration_s = c.number("duration", project.run.duration_s, Range::positive(), "s");
+      project.run.duration_s =
+          c.number("duration", project.run.duration_s, Range{0, kMaxTime_s, true, "> 0 and <= 1e7 s"}, "s");
       project.run.seed = static_cast<std::uint64_t>(
           c.number("seed", static_cast<double>(project.run.seed), Range::between(0, 4294967295.0, "0..4294967295")));
       project.run.trace_rate_hz = c.number("trace_rate", project.run.trace_rate_hz, Range::positive(), "Hz");
@@ -56,14 +58,25 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
     } else {
       RobotDesc robot;
       if (!read_project_robot(child, path, diagnostics, project.world, robot)) return;
-      for (const auto& other : project.robots)
-        if (other.name == robot.name && !robot.name.empty())
-          diagnostics.error(path, child.GetLineNum(), fmt::format("robot name '{}' is used twice", robot.name));
       project.robots.push_back(std::move(robot));
     }
   });
   r.finish();
+  check_at_most_one(*root, path, diagnostics, {"run"});
   for (const auto& robot : project.robots) validate_robot(robot, diagnostics);
+
+  // Collision reports name what was hit: every obstacle and robot needs a name of its own.
+  std::vector<std::string> names;
+  const auto unique = [&](const std::string& name, int line, const std::string& what) {
+    if (std::find(names.begin(), names.end(), name) != names.end())
+      diagnostics.error(path, line, fmt::format("{} name '{}' is already used by another obstacle or robot", what, name));
+    names.push_back(name);
+  };
+  for (const auto& b : project.world.boxes) unique(b.name, b.line, "box");
+  for (const auto& t : project.world.trees) unique(t.name, t.line, "tree");
+  for (const auto& w : project.world.walls) unique(w.name, w.line, "wall");
+  for (const auto& m : project.world.meshes) unique(m.name, m.line, "mesh");
+  for (const auto& robot : project.robots) unique(robot.name, robot.source.line, "robot");
   if (!diagnostics.ok()) return std::nullopt;
   return project;
 }

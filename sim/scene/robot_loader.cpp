@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
 #include "scene/loader_parts.hpp"
 #include "scene/mesh_loader.hpp"
@@ -14,7 +13,6 @@
 namespace sear {
 namespace {
 
-constexpr double kDegToRad = M_PI / 180.0;
 constexpr double kRpmToRadps = 2.0 * M_PI / 60.0;
 
 std::vector<std::string> material_names(const WorldDesc& world) {
@@ -37,25 +35,14 @@ void read_chassis(ElementReader& r, const WorldDesc& world, ChassisDesc& chassis
   chassis.material = read_material(r, world);
   if (chassis.shape == ChassisDesc::Shape::Box) {
     chassis.size_m = r.vec3("size", chassis.size_m, Range::positive());
+    chassis.bottom_z_m = -0.5 * chassis.size_m.z();
   } else {
-    const auto rel = r.required_text("file");
-    const UpAxis up = r.choice("up_axis", {"z", "y"}, 0) == 0 ? UpAxis::Z : UpAxis::Y;
-    const double scale = r.number("scale", 1.0, Range::positive());
-    if (rel) {
-      const std::string path = path_beside(r.file(), *rel);
-      if (!std::filesystem::exists(path)) {
-        r.error(fmt::format("<chassis> mesh file '{}' not found (looked for {})", *rel, path));
-      } else {
-        MeshLoadResult loaded = load_mesh(path, up, scale);
-        if (!loaded.error.empty()) {
-          r.error(fmt::format("<chassis> mesh file '{}': {}", *rel, loaded.error));
-        } else {
-          Eigen::Vector3f lo, hi;
-          mesh_bounds(loaded.mesh, lo, hi);
-          chassis.size_m = (hi - lo).cast<double>();
-          chassis.mesh = std::move(loaded.mesh);
-        }
-      }
+    // The mesh's origin is taken as the chassis' centre of mass; its box gives size and inertia.
+    Eigen::Vector3f lo = Eigen::Vector3f::Zero(), hi = Eigen::Vector3f::Zero();
+    chassis.mesh = read_mesh_file(r, &lo, &hi);
+    if (!chassis.mesh.indices.empty()) {
+      chassis.size_m = (hi - lo).cast<double>();
+      chassis.bottom_z_m = lo.z();
     }
   }
   r.finish();
@@ -65,11 +52,12 @@ WheelDesc read_wheel(ElementReader& r, const WorldDesc& world) {
   WheelDesc w;
   w.source = {r.file(), r.line()};
   w.name = r.required_text("name").value_or("");
+  check_name(r, w.name);
   w.position_m = r.vec3("pos", w.position_m);
   w.radius_m = r.required_number("radius", Range::positive(), "m").value_or(w.radius_m);
   w.width_m = r.number("width", w.width_m, Range::positive(), "m");
   w.mass_kg = r.number("mass", w.mass_kg, Range::positive(), "kg");
-  w.steered = r.text("steered", "false") == "true";
+  w.steered = r.choice("steered", {"false", "true"}, 0) == 1;
   w.material = read_material(r, world);
   r.finish();
   return w;
@@ -79,6 +67,7 @@ MotorDesc read_motor(ElementReader& r) {
   MotorDesc m;
   m.source = {r.file(), r.line()};
   m.name = r.required_text("name").value_or("");
+  check_name(r, m.name);
   m.wheels = r.names("wheels");
   if (m.wheels.empty()) r.error("<motor> needs attribute 'wheels' (the names of the wheels it drives)");
   m.stall_torque_nm = r.required_number("stall_torque", Range::positive(), "N*m").value_or(m.stall_torque_nm);
@@ -88,7 +77,8 @@ MotorDesc read_motor(ElementReader& r) {
     m.no_load_speed_radps =
         r.required_number("no_load_speed", Range::positive(), "rad/s (or give no_load_rpm)").value_or(1);
   }
-  m.supply_voltage_v = r.number("supply_voltage", m.supply_voltage_v, Range::positive(), "V");
+  m.rated_voltage_v = r.number("rated_voltage", m.rated_voltage_v, Range::positive(), "V");
+  m.supply_voltage_v = r.number("supply_voltage", m.rated_voltage_v, Range::positive(), "V");
   m.gear_friction_nm = r.number("gear_friction", m.gear_friction_nm, Range::non_negative(), "N*m");
   if (m.gear_friction_nm >= m.stall_torque_nm)
     r.error("<motor> 'gear_friction' must be below 'stall_torque', or the motor could never turn");
@@ -100,6 +90,7 @@ ServoDesc read_servo(ElementReader& r) {
   ServoDesc s;
   s.source = {r.file(), r.line()};
   s.name = r.required_text("name").value_or("");
+  check_name(r, s.name);
   s.kind = r.choice("kind", {"positional", "continuous"}, 0) == 0 ? ServoDesc::Kind::Positional
                                                                    : ServoDesc::Kind::Continuous;
   s.wheels = r.names(s.kind == ServoDesc::Kind::Positional ? "steers" : "wheels");
@@ -112,7 +103,8 @@ ServoDesc read_servo(ElementReader& r) {
   if (s.max_pulse_us <= s.min_pulse_us) r.error("<servo> 'max_pulse_us' must be above 'min_pulse_us'");
   s.torque_nm = r.number("torque", s.torque_nm, Range::positive(), "N*m");
   if (s.kind == ServoDesc::Kind::Positional) {
-    s.range_rad = r.number("range_deg", 60.0, Range::between(1, 360, "1..360 degrees"), "deg") * kDegToRad;
+    // Full travel; steering beyond +-85 degrees has no turning centre left to aim at.
+    s.range_rad = r.number("range_deg", 60.0, Range::between(1, 170, "1..170 degrees"), "deg") * kDegToRad;
     // Hobby servo datasheets give speed as seconds per 60 degrees.
     const double s_per_60 = r.number("speed_s_per_60deg", 0.17, Range::positive(), "s");
     s.speed_radps = (60.0 * kDegToRad) / s_per_60;
@@ -150,15 +142,13 @@ void read_robot_parts(ElementReader& r, const tinyxml2::XMLElement& element, Wor
   // material keeps its own figures, since the world knows its surfaces.
   for (auto* m = element.FirstChildElement("material"); m; m = m->NextSiblingElement("material")) {
     ElementReader c(m, r.file(), diagnostics);
-    Material material;
-    material.name = c.required_text("name").value_or("");
-    material.friction = c.number("friction", material.friction, Range::non_negative());
-    material.bounce = c.number("bounce", material.bounce, Range::between(0, 1, "0..1"));
-    c.finish();
+    const Material material = read_material_element(c);
     const auto names = material_names(world);
     if (!material.name.empty() && std::find(names.begin(), names.end(), material.name) == names.end())
       world.materials.push_back(material);
   }
+  check_at_most_one(element, r.file(), diagnostics, {"chassis", "pose", "script"});
+  if (!element.FirstChildElement("chassis")) r.error("<robot> needs a <chassis>");
   const auto visit = [&](const tinyxml2::XMLElement& child) {
     ElementReader c(&child, r.file(), diagnostics);
     const std::string kind = child.Name();
@@ -190,7 +180,7 @@ void read_script(const tinyxml2::XMLElement& element, const std::string& file, D
     ElementReader c(&child, file, diagnostics);
     ScriptCommand cmd;
     cmd.source = {file, c.line()};
-    cmd.t_s = c.required_number("t", Range::non_negative(), "s").value_or(0);
+    cmd.t_s = c.required_number("t", Range::between(0, kMaxTime_s, "0..1e7 s"), "s").value_or(0);
     cmd.actuator = c.required_text("name").value_or("");
     cmd.is_servo = std::string(child.Name()) == "servo";
     if (cmd.is_servo) {
@@ -249,6 +239,7 @@ bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& 
   }
   // A robot file that did not load already has its error; its name and parts are unknown, not wrong.
   if (parts_read && robot.name.empty()) r.error("<robot> needs a 'name' (here or in its robot file)");
+  else if (parts_read) check_name(r, robot.name);
   r.finish();
   return parts_read;
 }

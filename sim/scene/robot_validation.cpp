@@ -72,6 +72,11 @@ void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics) {
     case DriveKind::Ackermann:
       if (robot.wheels.size() != 4) fail(at, fmt::format("drive=\"ackermann\" needs 4 wheels, found {}", robot.wheels.size()));
       if (steered != 2) fail(at, fmt::format("drive=\"ackermann\" needs 2 wheels with steered=\"true\", found {}", steered));
+      else if (robot.wheels.size() == 4) {
+        double steered_x = 0, fixed_x = 0;
+        for (const auto& w : robot.wheels) (w.steered ? steered_x : fixed_x) += 0.5 * w.position_m.x();
+        if (steered_x <= fixed_x) fail(at, "drive=\"ackermann\" steers the front wheels: steered wheels need a larger x");
+      }
       break;
   }
   if (robot.drive != DriveKind::Ackermann && steered > 0)

@@ -2,6 +2,8 @@
 #include <fmt/format.h>
 #include <tinyxml2.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 
@@ -12,26 +14,6 @@
 
 namespace sear {
 namespace {
-
-constexpr double kDegToRad = M_PI / 180.0;
-
-UpAxis read_up_axis(ElementReader& r) { return r.choice("up_axis", {"z", "y"}, 0) == 0 ? UpAxis::Z : UpAxis::Y; }
-
-// Loads the mesh named by the element's `file` attribute; errors name the element's line.
-TriangleMesh read_mesh_file(ElementReader& r) {
-  const auto rel = r.required_text("file");
-  const UpAxis up = read_up_axis(r);
-  const double scale = r.number("scale", 1.0, Range::positive());
-  if (!rel) return {};
-  const std::string path = path_beside(r.file(), *rel);
-  if (!std::filesystem::exists(path)) {
-    r.error(fmt::format("<{}> mesh file '{}' not found (looked for {})", r.name(), *rel, path));
-    return {};
-  }
-  MeshLoadResult loaded = load_mesh(path, up, scale);
-  if (!loaded.error.empty()) r.error(fmt::format("<{}> mesh file '{}': {}", r.name(), *rel, loaded.error));
-  return std::move(loaded.mesh);
-}
 
 void read_terrain(ElementReader& r, TerrainDesc& t) {
   const std::size_t kind = r.choice("type", {"flat", "heightmap", "mesh"}, 0);
@@ -70,9 +52,57 @@ void read_terrain(ElementReader& r, TerrainDesc& t) {
 
 }  // namespace
 
+Material read_material_element(ElementReader& r) {
+  Material m;
+  m.name = r.required_text("name").value_or("");
+  m.friction = r.number("friction", m.friction, Range::non_negative());
+  m.bounce = r.number("bounce", m.bounce, Range::between(0, 1, "0..1"));
+  r.finish();
+  return m;
+}
+
+TriangleMesh read_mesh_file(ElementReader& r, Eigen::Vector3f* bounds_min, Eigen::Vector3f* bounds_max) {
+  const auto rel = r.required_text("file");
+  const UpAxis up = r.choice("up_axis", {"z", "y"}, 0) == 0 ? UpAxis::Z : UpAxis::Y;
+  const double scale = r.number("scale", 1.0, Range::positive());
+  if (!rel) return {};
+  const std::string path = path_beside(r.file(), *rel);
+  if (!std::filesystem::exists(path)) {
+    r.error(fmt::format("<{}> mesh file '{}' not found (looked for {})", r.name(), *rel, path));
+    return {};
+  }
+  MeshLoadResult loaded = load_mesh(path, up, scale);
+  if (!loaded.error.empty()) {
+    r.error(fmt::format("<{}> mesh file '{}': {}", r.name(), *rel, loaded.error));
+    return {};
+  }
+  if (bounds_min && bounds_max) mesh_bounds(loaded.mesh, *bounds_min, *bounds_max);
+  return std::move(loaded.mesh);
+}
+
+void check_name(ElementReader& r, const std::string& name) {
+  const bool safe = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+  if (!safe) r.error(fmt::format("<{}> name '{}': use letters, digits, '_' and '-' only", r.name(), name));
+}
+
+void check_at_most_one(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
+                       std::initializer_list<const char*> kinds) {
+  for (const char* kind : kinds) {
+    const tinyxml2::XMLElement* first = element.FirstChildElement(kind);
+    if (!first) continue;
+    for (auto* again = first->NextSiblingElement(kind); again; again = again->NextSiblingElement(kind))
+      diagnostics.error(file, again->GetLineNum(),
+                        fmt::format("<{}> may appear only once in <{}> (first at line {})", kind, element.Name(),
+                                    first->GetLineNum()));
+  }
+}
+
 void read_world(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
                 WorldDesc& world) {
   ElementReader r(&element, file, diagnostics);
+  check_at_most_one(element, file, diagnostics, {"terrain", "gps_origin", "magnetic"});
   world.gravity = r.vec3("gravity", world.gravity);
   world.step_s = r.number("step", world.step_s, Range::between(1e-5, 0.01, "between 0.00001 and 0.01 s"), "s");
   world.solver_iterations = static_cast<int>(
@@ -99,10 +129,7 @@ void read_world(const tinyxml2::XMLElement& element, const std::string& file, Di
                      c.number("declination_deg", 0.0, Range::between(-180, 180, "-180..180 degrees"), "deg") *
                      kDegToRad;
                } else if (kind == "material") {
-                 Material m;
-                 m.name = c.required_text("name").value_or("");
-                 m.friction = c.number("friction", m.friction, Range::non_negative());
-                 m.bounce = c.number("bounce", m.bounce, Range::between(0, 1, "0..1"));
+                 const Material m = read_material_element(c);
                  bool duplicate = false;
                  for (auto& existing : world.materials) {
                    if (existing.name != m.name) continue;
@@ -111,6 +138,7 @@ void read_world(const tinyxml2::XMLElement& element, const std::string& file, Di
                    duplicate = true;
                  }
                  if (!duplicate && !m.name.empty()) world.materials.push_back(m);
+                 return;
                } else if (kind == "terrain") {
                  read_terrain(c, world.terrain);
                  uses.push_back({world.terrain.material, c.line(), "terrain"});
@@ -118,6 +146,8 @@ void read_world(const tinyxml2::XMLElement& element, const std::string& file, Di
                } else if (kind == "box") {
                  BoxDesc b;
                  b.name = c.text("name", fmt::format("box{}", world.boxes.size() + 1));
+                 check_name(c, b.name);
+                 b.line = c.line();
                  b.size_m = c.vec3("size", b.size_m, Range::positive());
                  b.xy_m = c.vec2("pos", b.xy_m);
                  b.on_ground = !c.has("z");
@@ -130,6 +160,8 @@ void read_world(const tinyxml2::XMLElement& element, const std::string& file, Di
                } else if (kind == "tree") {
                  TreeDesc t;
                  t.name = c.text("name", fmt::format("tree{}", world.trees.size() + 1));
+                 check_name(c, t.name);
+                 t.line = c.line();
                  t.xy_m = c.vec2("pos", t.xy_m);
                  t.trunk_radius_m = c.number("trunk_radius", t.trunk_radius_m, Range::positive(), "m");
                  t.trunk_height_m = c.number("trunk_height", t.trunk_height_m, Range::positive(), "m");
@@ -140,6 +172,8 @@ void read_world(const tinyxml2::XMLElement& element, const std::string& file, Di
                } else if (kind == "wall") {
                  WallDesc w;
                  w.name = c.text("name", fmt::format("wall{}", world.walls.size() + 1));
+                 check_name(c, w.name);
+                 w.line = c.line();
                  w.from_m = c.vec2("from", w.from_m);
                  w.to_m = c.vec2("to", w.to_m);
                  w.height_m = c.number("height", w.height_m, Range::positive(), "m");
@@ -151,6 +185,8 @@ void read_world(const tinyxml2::XMLElement& element, const std::string& file, Di
                } else if (kind == "mesh") {
                  MeshObstacleDesc m;
                  m.name = c.text("name", fmt::format("mesh{}", world.meshes.size() + 1));
+                 check_name(c, m.name);
+                 m.line = c.line();
                  m.xy_m = c.vec2("pos", m.xy_m);
                  m.yaw_rad = c.number("yaw_deg", 0.0) * kDegToRad;
                  m.material = c.text("material", "default");

@@ -50,7 +50,7 @@ void TraceCsv::write_row(const Simulation& sim) {
     const VehicleState s = v.state();
     fmt::memory_buffer row;
     // Fixed decimals: the same state always prints the same bytes (the determinism tests compare them).
-    fmt::format_to(std::back_inserter(row), "{:.3f}", sim.time_s());
+    fmt::format_to(std::back_inserter(row), "{:.6f}", sim.time_s());
     const auto put = [&](double x) { fmt::format_to(std::back_inserter(row), ",{:.6f}", x); };
     for (int i = 0; i < 3; ++i) put(s.position_m[i]);
     for (int i = 0; i < 3; ++i) put(s.roll_pitch_yaw[i]);
@@ -66,10 +66,15 @@ void TraceCsv::write_row(const Simulation& sim) {
     row.push_back('\n');
     std::fwrite(row.data(), 1, row.size(), files_[r].get());
   }
+  flush();
 }
 
 void TraceCsv::flush() {
-  for (auto& f : files_) std::fflush(f.get());
+  // Each row reaches the file before the next step, so a run that dies keeps all it traced; a
+  // full disk is an error, not a silently short trace.
+  for (std::size_t r = 0; r < files_.size(); ++r)
+    if (std::fflush(files_[r].get()) != 0 || std::ferror(files_[r].get()))
+      throw std::runtime_error("cannot write " + paths_[r]);
 }
 
 }  // namespace sear

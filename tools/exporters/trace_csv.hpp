@@ -1,5 +1,5 @@
 // The per-robot CSV trace of a run: pose, velocities, wheel speeds and actuator commands,
-// sampled at the trace rate, one file per robot, flushed as it goes so a crash loses little.
+// sampled at the trace rate, one file per robot, flushed row by row so a crash loses nothing.
 #pragma once
 
 #include <cstdio>

@@ -14,9 +14,13 @@ int check_command(const std::string& project) {
     fmt::print(stderr, "{}: {} error{}\n", path, diagnostics.all().size(), diagnostics.all().size() == 1 ? "" : "s");
     return 1;
   }
-  fmt::print("{}: ok ({} robot{}, {} boxes, {} trees, {} walls, {} meshes)\n", path, loaded->robots.size(),
-             loaded->robots.size() == 1 ? "" : "s", loaded->world.boxes.size(), loaded->world.trees.size(),
-             loaded->world.walls.size(), loaded->world.meshes.size());
+  const auto count = [](std::size_t n, const char* one, const char* many) {
+    return fmt::format("{} {}", n, n == 1 ? one : many);
+  };
+  const WorldDesc& w = loaded->world;
+  fmt::print("{}: ok ({}, {}, {}, {}, {})\n", path, count(loaded->robots.size(), "robot", "robots"),
+             count(w.boxes.size(), "box", "boxes"), count(w.trees.size(), "tree", "trees"),
+             count(w.walls.size(), "wall", "walls"), count(w.meshes.size(), "mesh", "meshes"));
   return 0;
 }
 
