@@ -110,6 +110,12 @@ const std::string kWorldForRobotFiles = R"(  <world step="0.001">
   </world>
 )";
 
+// A project that includes `robot_file` from its own folder, with the bundled robots' materials.
+std::string project_including(const std::string& robot_file) {
+  return "<?xml version=\"1.0\"?>\n<project name=\"including\">\n" + kWorldForRobotFiles + "  <robot file=\"" +
+         robot_file + "\">\n    <pose x=\"0\" y=\"0\"/>\n  </robot>\n</project>\n";
+}
+
 struct Loaded {
   std::string path;
   Diagnostics diagnostics;
@@ -310,13 +316,7 @@ TEST(ProjectErrors, MalformedRobotFileNamesTheRobotFileAndItsLine) {
 </robot>
 )";
   const std::string robot_path = dir.write("broken_bot.xml", robot);
-  const std::string xml = R"(<?xml version="1.0"?>
-<project name="broken_robot">
-)" + kWorldForRobotFiles + R"(  <robot file="broken_bot.xml">
-    <pose x="0" y="0"/>
-  </robot>
-</project>
-)";
+  const std::string xml = project_including("broken_bot.xml");
   const Loaded l = load(dir, xml);
   EXPECT_FALSE(l.project.has_value());
   // <chassis ...> on line 3 is never closed.
@@ -337,13 +337,7 @@ TEST(ProjectErrors, ErrorsInsideARobotFileNameThatFile) {
 </robot>
 )";
   const std::string robot_path = dir.write("wrong_bot.xml", robot);
-  const std::string xml = R"(<?xml version="1.0"?>
-<project name="wrong_robot">
-)" + kWorldForRobotFiles + R"(  <robot file="wrong_bot.xml">
-    <pose x="0" y="0"/>
-  </robot>
-</project>
-)";
+  const std::string xml = project_including("wrong_bot.xml");
   const Loaded l = load(dir, xml);
   EXPECT_FALSE(l.project.has_value());
   ASSERT_EQ(l.diagnostics.all().size(), 2u) << l.diagnostics.joined();
@@ -600,12 +594,10 @@ TEST(ProjectErrors, AckermannSteersTheFrontAndServosCannotDriveSteeredWheels) {
   <motor name="drive" wheels="rl rr" stall_torque="1" no_load_rpm="300"/>
 </robot>
 )");
-  const std::string xml = "<project>\n" + kWorldForRobotFiles + R"(  <robot file="car.xml"/>
-</project>
-)";
+  const std::string xml = project_including("car.xml");
   const Loaded l = load(dir, xml);
   EXPECT_FALSE(l.project.has_value());
-  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "<robot file"), {"steers the front wheels"}));
+  EXPECT_TRUE(reports(l.diagnostics, car, 1, {"steers the front wheels"}));  // where drive= is written
   EXPECT_TRUE(reports(l.diagnostics, car, 9, {"continuous servo 'spin' cannot drive steered wheel 'fl'"}));
 }
 

@@ -1,5 +1,7 @@
 #include "physics/vehicle.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -43,10 +45,16 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
   // It starts level, just clear of the terrain under each wheel, caster and the chassis centre.
   const Eigen::Vector2d xy = desc.start_xy_m;
   const Eigen::Matrix2d yaw2 = Eigen::Rotation2Dd(desc.start_yaw_rad).toRotationMatrix();
-  double origin_z = physics.terrain_height(xy.x(), xy.y()) - desc.chassis.bottom_z_m;
+  const auto ground = [&](const Eigen::Vector2d& at) {
+    const double h = physics.terrain_height(at.x(), at.y(), std::nan(""));
+    if (std::isnan(h))
+      throw std::runtime_error(fmt::format("{}:{}: error: robot '{}' starts at ({:.2f}, {:.2f}) m, where there is no terrain",
+                                           desc.source.file, desc.source.line, desc.name, at.x(), at.y()));
+    return h;
+  };
+  double origin_z = ground(xy) - desc.chassis.bottom_z_m;
   const auto clear = [&](const Eigen::Vector3d& p, double radius) {
-    const Eigen::Vector2d ground_xy = xy + yaw2 * p.head<2>();
-    origin_z = std::max(origin_z, physics.terrain_height(ground_xy.x(), ground_xy.y()) - (p.z() - radius));
+    origin_z = std::max(origin_z, ground(xy + yaw2 * p.head<2>()) - (p.z() - radius));
   };
   for (const auto& w : desc.wheels) clear(w.position_m, w.radius_m);
   for (const auto& c : desc.casters) clear(c.position_m, c.radius_m);

@@ -175,7 +175,8 @@ struct ScriptCommand {
 
 struct RobotDesc {
   std::string name;
-  SourceRef source;  // the <robot> element in the project
+  SourceRef source;        // the <robot> element in the project
+  SourceRef parts_source;  // where drive and parts are written: that element, or the robot file's root
   Eigen::Vector2d start_xy_m{0, 0};
   double start_yaw_rad = 0;  // counter-clockwise from east
   ChassisDesc chassis;

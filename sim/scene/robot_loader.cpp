@@ -202,6 +202,7 @@ bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& 
   bool parts_read = true;
   ElementReader r(&element, file, diagnostics);
   robot.source = {file, r.line()};
+  robot.parts_source = robot.source;
   const std::string included = r.text("file", "");
   robot.name = r.text("name", "");
 
@@ -221,6 +222,7 @@ bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& 
                         "a robot file must have <robot> as its root element");
     } else {
       ElementReader base(doc.RootElement(), path, diagnostics);
+      robot.parts_source = {path, base.line()};
       const std::string base_name = base.text("name", "");
       if (robot.name.empty()) robot.name = base_name;
       read_robot_parts(base, *doc.RootElement(), world, diagnostics, robot, false);

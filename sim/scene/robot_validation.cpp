@@ -60,7 +60,7 @@ void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics) {
 
   const std::size_t steered =
       std::count_if(robot.wheels.begin(), robot.wheels.end(), [](const WheelDesc& w) { return w.steered; });
-  const SourceRef& at = robot.source;
+  const SourceRef& at = robot.parts_source;
   switch (robot.drive) {
     case DriveKind::Differential:
       if (robot.wheels.size() != 2) fail(at, fmt::format("drive=\"differential\" needs 2 wheels, found {}", robot.wheels.size()));

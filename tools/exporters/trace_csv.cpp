@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
 
 namespace sear {
@@ -32,7 +34,7 @@ TraceCsv::TraceCsv(const std::string& folder, const Simulation& sim) {
     const RobotDesc& d = sim.robot(r).desc();
     const std::string path = fmt::format("{}/trace_{}.csv", folder, d.name);
     std::FILE* f = std::fopen(path.c_str(), "w");
-    if (!f) throw std::runtime_error("cannot write " + path);
+    if (!f) throw std::runtime_error(fmt::format("{}: error: cannot write: {}", path, std::strerror(errno)));
     files_.emplace_back(f);
     paths_.push_back(path);
     std::string header =
@@ -74,7 +76,7 @@ void TraceCsv::flush() {
   // full disk is an error, not a silently short trace.
   for (std::size_t r = 0; r < files_.size(); ++r)
     if (std::fflush(files_[r].get()) != 0 || std::ferror(files_[r].get()))
-      throw std::runtime_error("cannot write " + paths_[r]);
+      throw std::runtime_error(fmt::format("{}: error: cannot write: {}", paths_[r], std::strerror(errno)));
 }
 
 }  // namespace sear

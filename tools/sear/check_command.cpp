@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include "runtime/simulation.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
 
@@ -12,6 +13,13 @@ int check_command(const std::string& project) {
   if (!loaded) {
     fmt::print(stderr, "{}", diagnostics.joined());
     fmt::print(stderr, "{}: {} error{}\n", path, diagnostics.all().size(), diagnostics.all().size() == 1 ? "" : "s");
+    return 1;
+  }
+  // Building the world finds what only the world knows, such as a robot placed off the terrain.
+  try {
+    Simulation world(*loaded, loaded->run.seed);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "{}\n", e.what());
     return 1;
   }
   const auto count = [](std::size_t n, const char* one, const char* many) {

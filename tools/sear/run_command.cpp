@@ -23,7 +23,7 @@ extern "C" void request_stop(int) { g_stop_requested = true; }
 void write_file(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
-  if (!out) throw std::runtime_error("cannot write " + path);
+  if (!out) throw std::runtime_error(path + ": error: cannot write");
 }
 
 using Clock = std::chrono::steady_clock;
@@ -93,7 +93,7 @@ int run_command(const RunOptions& options) {
     }
     return g_stop_requested ? 130 : 0;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "sear run: {}\n", e.what());
+    fmt::print(stderr, "{}\n", e.what());
     return 1;
   }
 }
