@@ -41,6 +41,10 @@ class Vehicle {
   // Spin of a wheel about its axle relative to the chassis, rad/s, positive rolling forward.
   double wheel_speed(std::size_t wheel) const;
 
+  // The ODE bodies, for sensors that measure them and tests that check the joints.
+  dBodyID chassis_body() const { return chassis_; }
+  dBodyID wheel_body(std::size_t wheel) const { return wheels_[wheel].body; }
+
  private:
   struct Wheel {
     dBodyID body;
