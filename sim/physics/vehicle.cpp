@@ -63,8 +63,8 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
 
   chassis_ = dBodyCreate(physics.world());
   dMass mass;
-  // A mesh chassis takes the inertia of its bounding box: a mesh need not be closed, and the
-  // box is within a few percent for the compact chassis small robots have.
+  // A mesh chassis takes the inertia of its bounding box: a mesh need not be closed (ODE's mesh
+  // inertia needs a closed one), and for the compact chassis of small robots the box is close.
   dMassSetBoxTotal(&mass, desc.chassis.mass_kg, desc.chassis.size_m.x(), desc.chassis.size_m.y(),
                    desc.chassis.size_m.z());
   dBodySetMass(chassis_, &mass);
