@@ -5,6 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libode-dev libassimp-dev libeigen3-dev libtinyxml2-dev libstb-dev
+  zlib1g-dev                 # assimp's CMake targets link libz.so, which libassimp-dev does not pull in
   libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
   clang libclang-rt-14-dev   # libFuzzer for the project-file fuzz target

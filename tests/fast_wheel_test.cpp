@@ -72,9 +72,12 @@ TEST(FastWheels, SpinAt3000RpmInFreeSpaceWithTheJointsHeldAndMomentumKept) {
 
   const double free_speed = 3000 * 2 * M_PI / 60;  // 314 rad/s
   double worst_anchor_m = 0, worst_axle_rad = 0;
+  const double start_z = vec(dBodyGetPosition(v.chassis_body())).z();
+  double lowest_z = start_z;
   test::run_for(sim, 3.0, [&] {
     const Eigen::Matrix3d chassis = rotation(v.chassis_body());
     const Eigen::Vector3d origin = vec(dBodyGetPosition(v.chassis_body()));
+    lowest_z = std::min(lowest_z, origin.z());
     for (std::size_t w = 0; w < 2; ++w) {
       const Eigen::Vector3d anchor = origin + chassis * project.robots[0].wheels[w].position_m;
       worst_anchor_m = std::max(worst_anchor_m, (vec(dBodyGetPosition(v.wheel_body(w))) - anchor).norm());
@@ -90,8 +93,8 @@ TEST(FastWheels, SpinAt3000RpmInFreeSpaceWithTheJointsHeldAndMomentumKept) {
 
   // The robot's total angular momentum stays what it was, zero, the chassis turning backwards as
   // the wheels spin up. Compare with one wheel's own momentum.
-  EXPECT_TRUE(sim.collisions().empty());
-  EXPECT_GT(vec(dBodyGetPosition(v.chassis_body())).z(), 10.0);  // 5 m/s^2 for 3 s: 22 m up
+  EXPECT_GE(lowest_z, start_z);  // it never came down onto the ground
+  EXPECT_GT(vec(dBodyGetPosition(v.chassis_body())).z(), 20.0);  // 5 m/s^2 for 3 s: 22.5 m up
   const Eigen::Vector3d total = angular_momentum({v.chassis_body(), v.wheel_body(0), v.wheel_body(1)});
   const double one_wheel = 0.5 * 0.06 * 0.045 * 0.045 * free_speed;  // (m r^2 / 2) w of a solid disc
   EXPECT_LT(total.norm(), 0.01 * one_wheel);

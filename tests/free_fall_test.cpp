@@ -13,7 +13,7 @@ TEST(FreeFall, FollowsHalfGTSquaredWithinOnePercent) {
       R"(gravity="0 0 -9.81" step="0.001")", R"(<box name="dropped" pos="0 0" z="50" size="0.2 0.2 0.2" mass="1"/>)", ""));
   PhysicsWorld physics(project.world, 1);
   build_terrain(physics, project.world.terrain);
-  build_obstacles(physics, project.world);
+  ASSERT_TRUE(build_obstacles(physics, project.world, project.file).empty());
   ASSERT_EQ(dSpaceGetNumGeoms(physics.dynamic_space()), 1);
   dBodyID body = dGeomGetBody(dSpaceGetGeom(physics.dynamic_space(), 0));
   ASSERT_NE(body, nullptr);

@@ -146,6 +146,25 @@ TEST(HeightmapImage, PgmLevelsAreScaledByMaxval) {
   EXPECT_NEAR(shallow.levels[3], 0.25, 1e-12);
 }
 
+// stb 2.27 reads 16-bit colour PPM one byte short per sample and fills a truncated PGM with
+// whatever memory held; the loader refuses both rather than make up terrain.
+TEST(HeightmapImage, ColourAndTruncatedNetpbmFilesAreRefused) {
+  TempDir dir;
+  const HeightmapImage colour =
+      load_heightmap_image(dir.write("colour.ppm", "P6\n2 2\n65535\n" + std::string(2 * 2 * 3 * 2, '\x10')));
+  EXPECT_NE(colour.error.find("only binary greyscale Netpbm images (PGM, P5)"), std::string::npos) << colour.error;
+  const HeightmapImage ascii = load_heightmap_image(dir.write("ascii.pgm", "P2\n2 2\n255\n0 1 2 3\n"));
+  EXPECT_NE(ascii.error.find("only binary greyscale"), std::string::npos) << ascii.error;
+  const HeightmapImage truncated =
+      load_heightmap_image(dir.write("short.pgm", "P5\n4 4\n65535\n" + std::string(4 * 4 * 2 - 1, '\x10')));
+  EXPECT_NE(truncated.error.find("shorter than its header says"), std::string::npos) << truncated.error;
+  const HeightmapImage exact =
+      load_heightmap_image(dir.write("exact.pgm", "P5\n4 4\n65535\n" + std::string(4 * 4 * 2, '\x10')));
+  EXPECT_TRUE(exact.error.empty()) << exact.error;
+  const HeightmapImage garbled = load_heightmap_image(dir.write("garbled.pgm", "P5\n4 four\n255\n"));
+  EXPECT_NE(garbled.error.find("malformed PGM header"), std::string::npos) << garbled.error;
+}
+
 TEST(HeightmapImage, TooSmallImageIsAnError) {
   TempDir dir;
   const std::string path = dir.write("line.pgm", std::string("P5\n3 1\n255\n\x01\x02\x03", 14));

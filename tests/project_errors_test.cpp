@@ -618,6 +618,35 @@ TEST(ProjectErrors, MotorVoltagesAreRead) {
   EXPECT_EQ(l.project->robots[0].motors[0].rated_voltage_v, 6.0);
   EXPECT_EQ(l.project->robots[0].motors[0].supply_voltage_v, 9.0);
   EXPECT_EQ(l.project->robots[0].motors[1].supply_voltage_v, l.project->robots[0].motors[1].rated_voltage_v);
+
+  // A supply voltage alone means the figures were measured at that voltage.
+  const Loaded only_supply = load(dir, replaced(kGoodProject, R"(<motor name="left_motor" wheels="left")",
+                                                R"(<motor name="left_motor" wheels="left" supply_voltage="12")"));
+  ASSERT_TRUE(only_supply.project.has_value()) << only_supply.diagnostics.joined();
+  EXPECT_EQ(only_supply.project->robots[0].motors[0].rated_voltage_v, 12.0);
+}
+
+TEST(ProjectErrors, AnIncludedRobotTakesOnePoseAndOneScript) {
+  TempDir dir;
+  dir.write("bot.xml", "<robot name=\"bot\" drive=\"differential\">\n" +
+                           std::string(R"(  <material name="rubber"/><material name="plastic"/>
+  <chassis size="0.3 0.18 0.06" mass="1.5" material="plastic"/>
+  <wheel name="left" pos="0 0.1 0" radius="0.04" material="rubber"/>
+  <wheel name="right" pos="0 -0.1 0" radius="0.04" material="rubber"/>
+  <caster pos="-0.1 0 -0.02" radius="0.02"/>
+</robot>
+)"));
+  const std::string xml = R"(<project>
+  <world/>
+  <robot file="bot.xml">
+    <pose x="0" y="0"/>
+    <pose x="1" y="0"/>
+  </robot>
+</project>
+)";
+  const Loaded l = load(dir, xml);
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, R"(<pose x="1")"), {"<pose> may appear only once in <robot>"}));
 }
 
 }  // namespace

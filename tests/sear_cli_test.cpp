@@ -110,20 +110,23 @@ TEST(SearCli, CheckListsEveryErrorAndFails) {
   EXPECT_EQ(sear("run " + dir.string()).exit_code, 1);
 }
 
-TEST(SearCli, CheckFindsARobotPlacedOffTheTerrain) {
+TEST(SearCli, CheckFindsEverythingPlacedOffTheTerrain) {
   const fs::path dir = fresh_dir("off_terrain");
   fs::create_directories(dir);
   std::ofstream(dir / "project.xml") << R"(<project>
   <world>
     <terrain type="heightmap" image=")" << SEAR_ASSET_DIR << R"(/heightmaps/hills.png" size="40 40"/>
+    <tree name="lost_oak" pos="0 -30"/>
   </world>
   <robot file=")" << SEAR_ASSET_DIR << R"(/robots/rover.xml"><pose x="25" y="0"/></robot>
 </project>
 )";
   const Result r = sear("check " + dir.string());
   EXPECT_EQ(r.exit_code, 1);
-  // 25 m east is beyond the 40 m map's edge at 20 m.
-  EXPECT_NE(r.err.find((dir / "project.xml").string() + ":5: error: robot 'rover' starts at (25.00, 0.00) m, where there is no terrain"),
+  // The 40 m map ends 20 m from the origin: both are beyond it, and both are reported.
+  const std::string file = (dir / "project.xml").string();
+  EXPECT_NE(r.err.find(file + ":4: error: obstacle 'lost_oak' has no terrain under it"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(file + ":6: error: robot 'rover' starts at (25.00, 0.00) m, where there is no terrain"),
             std::string::npos) << r.err;
   EXPECT_EQ(sear("run " + dir.string() + " -o " + (dir / "out").string()).exit_code, 1);
 }

@@ -1,13 +1,11 @@
 // Terrain: heightmap orientation and a rover riding it, mesh terrain, and Coulomb friction on a slope.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 
 #include "physics/physics_world.hpp"
 #include "physics/scenery.hpp"
+#include "temp_dir.hpp"
 #include "test_world.hpp"
 
 namespace sear {
@@ -20,31 +18,29 @@ constexpr double kDeg = M_PI / 180.0;
 double plane_height(double x, double y) { return 1.0 + 0.1 * y + 0.05 * x; }
 
 // A 16-bit binary PGM of that plane over 20 x 20 m, row 0 the north edge; heights -0.5..2.5 m.
-std::string write_plane_pgm() {
-  // One file per process: ctest runs these tests in parallel.
-  const auto path = std::filesystem::temp_directory_path() / ("sear_plane_heightmap_" + std::to_string(getpid()) + ".pgm");
+std::string write_plane_pgm(const test::TempDir& dir) {
   constexpr int n = 65;
-  std::ofstream out(path, std::ios::binary);
-  out << "P5\n" << n << " " << n << "\n65535\n";
+  std::string pgm = "P5\n" + std::to_string(n) + " " + std::to_string(n) + "\n65535\n";
   for (int row = 0; row < n; ++row) {
     for (int col = 0; col < n; ++col) {
       const double x = -10.0 + 20.0 * col / (n - 1), y = 10.0 - 20.0 * row / (n - 1);
       const auto v = static_cast<unsigned>(std::lround((plane_height(x, y) + 0.5) / 3.0 * 65535.0));
-      out.put(static_cast<char>(v >> 8)).put(static_cast<char>(v & 0xff));
+      pgm += {static_cast<char>(v >> 8), static_cast<char>(v & 0xff)};
     }
   }
-  return path.string();
+  return dir.write("plane.pgm", pgm);
 }
 
-std::string heightmap_world(const std::string& robots) {
-  return test::project_xml(
-      R"(step="0.001")",
-      R"(<terrain type="heightmap" image=")" + write_plane_pgm() + R"(" size="20 20" min_height="-0.5" max_height="2.5"/>)",
-      robots);
+std::string heightmap_world(const test::TempDir& dir, const std::string& robots) {
+  return test::project_xml(R"(step="0.001")",
+                           R"(<terrain type="heightmap" image=")" + write_plane_pgm(dir) +
+                               R"(" size="20 20" min_height="-0.5" max_height="2.5"/>)",
+                           robots);
 }
 
 TEST(Terrain, HeightmapIsNorthUpAndEastRight) {
-  const ProjectDesc project = test::project_from_xml(heightmap_world(""));
+  const test::TempDir dir;
+  const ProjectDesc project = test::project_from_xml(heightmap_world(dir, ""));
   PhysicsWorld physics(project.world, 1);
   build_terrain(physics, project.world.terrain);
   for (const auto& [x, y] : std::vector<std::pair<double, double>>{{0, 0}, {5, 0}, {0, 5}, {-7, 3}, {8.5, -9}, {-9.9, 9.9}}) {
@@ -55,11 +51,9 @@ TEST(Terrain, HeightmapIsNorthUpAndEastRight) {
 }
 
 TEST(Terrain, RoverHeightFollowsTheHeightmap) {
-  struct RemoveMap {
-    ~RemoveMap() { std::filesystem::remove(std::filesystem::temp_directory_path() / ("sear_plane_heightmap_" + std::to_string(getpid()) + ".pgm")); }
-  } remove_map;
+  const test::TempDir dir;
   const ProjectDesc project = test::project_from_xml(
-      heightmap_world(R"(<robot file="../robots/rover.xml"><pose x="0" y="-5" yaw_deg="90"/></robot>)"));
+      heightmap_world(dir, R"(<robot file="../robots/rover.xml"><pose x="0" y="-5" yaw_deg="90"/></robot>)"));
   Simulation sim(project, 1);
   test::drive(sim, "left", 0.8, MotorDirection::Forward);
   test::drive(sim, "right", 0.8, MotorDirection::Forward);

@@ -1,5 +1,7 @@
 #include "physics/scenery.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -12,10 +14,15 @@ void set_yaw(dGeomID geom, double yaw) {
   dGeomSetRotation(geom, r);
 }
 
-// Lowest terrain point under a footprint, so that walls and trunks reach the ground everywhere.
+// Lowest terrain point under a footprint, so that walls and trunks reach the ground everywhere;
+// NaN where some point has no terrain under it.
 double lowest_ground(const PhysicsWorld& physics, const std::vector<Eigen::Vector2d>& points) {
   double lowest = 1e300;
-  for (const auto& p : points) lowest = std::min(lowest, physics.terrain_height(p.x(), p.y()));
+  for (const auto& p : points) {
+    const double h = physics.terrain_height(p.x(), p.y(), std::nan(""));
+    if (std::isnan(h)) return h;
+    lowest = std::min(lowest, h);
+  }
   return lowest;
 }
 
@@ -51,14 +58,24 @@ void build_terrain(PhysicsWorld& physics, const TerrainDesc& terrain) {
   physics.set_terrain_geom(geom);
 }
 
-void build_obstacles(PhysicsWorld& physics, const WorldDesc& world) {
+std::vector<std::string> build_obstacles(PhysicsWorld& physics, const WorldDesc& world, const std::string& file) {
+  std::vector<std::string> problems;
+  const auto off_terrain = [&](double ground, int line, const std::string& name) {
+    if (!std::isnan(ground)) return false;
+    problems.push_back(fmt::format("{}:{}: error: obstacle '{}' has no terrain under it", file, line, name));
+    return true;
+  };
   for (const auto& box : world.boxes) {
+    double z = box.z_m;
+    if (box.on_ground) {
+      const double ground = lowest_ground(physics, {box.xy_m});
+      if (off_terrain(ground, box.line, box.name)) continue;
+      z = ground + 0.5 * box.size_m.z();
+    }
     const int entity = physics.add_entity(box.name);
     const bool dynamic = box.mass_kg > 0;
     dGeomID geom = dCreateBox(dynamic ? physics.dynamic_space() : physics.static_space(), box.size_m.x(),
                               box.size_m.y(), box.size_m.z());
-    const double z = box.on_ground ? physics.terrain_height(box.xy_m.x(), box.xy_m.y()) + 0.5 * box.size_m.z()
-                                   : box.z_m;
     if (dynamic) {
       dBodyID body = dBodyCreate(physics.world());
       dMass mass;
@@ -72,12 +89,13 @@ void build_obstacles(PhysicsWorld& physics, const WorldDesc& world) {
   }
 
   for (const auto& tree : world.trees) {
-    const int entity = physics.add_entity(tree.name);
-    const int material = physics.material_index(tree.material);
     const double r = tree.trunk_radius_m;
     const Eigen::Vector2d c = tree.xy_m;
     const double ground = lowest_ground(physics, {c, c + Eigen::Vector2d(r, 0), c - Eigen::Vector2d(r, 0),
                                                   c + Eigen::Vector2d(0, r), c - Eigen::Vector2d(0, r)});
+    if (off_terrain(ground, tree.line, tree.name)) continue;
+    const int entity = physics.add_entity(tree.name);
+    const int material = physics.material_index(tree.material);
     dGeomID trunk = dCreateCylinder(physics.static_space(), r, tree.trunk_height_m);  // ODE cylinders run along Z
     dGeomSetPosition(trunk, c.x(), c.y(), ground + 0.5 * tree.trunk_height_m);
     physics.tag(trunk, GeomRole::Obstacle, entity, material);
@@ -89,10 +107,11 @@ void build_obstacles(PhysicsWorld& physics, const WorldDesc& world) {
   }
 
   for (const auto& wall : world.walls) {
-    const int entity = physics.add_entity(wall.name);
     const Eigen::Vector2d along = wall.to_m - wall.from_m;
     const Eigen::Vector2d mid = 0.5 * (wall.from_m + wall.to_m);
     const double ground = lowest_ground(physics, {wall.from_m, mid, wall.to_m});
+    if (off_terrain(ground, wall.line, wall.name)) continue;
+    const int entity = physics.add_entity(wall.name);
     dGeomID geom = dCreateBox(physics.static_space(), along.norm(), wall.thickness_m, wall.height_m);
     dGeomSetPosition(geom, mid.x(), mid.y(), ground + 0.5 * wall.height_m);
     set_yaw(geom, std::atan2(along.y(), along.x()));
@@ -100,13 +119,16 @@ void build_obstacles(PhysicsWorld& physics, const WorldDesc& world) {
   }
 
   for (const auto& mesh : world.meshes) {
+    const double ground = lowest_ground(physics, {mesh.xy_m});
+    if (off_terrain(ground, mesh.line, mesh.name)) continue;
     const int entity = physics.add_entity(mesh.name);
     dGeomID geom =
         dCreateTriMesh(physics.static_space(), physics.add_mesh_data(mesh.mesh), nullptr, nullptr, nullptr);
-    dGeomSetPosition(geom, mesh.xy_m.x(), mesh.xy_m.y(), physics.terrain_height(mesh.xy_m.x(), mesh.xy_m.y()));
+    dGeomSetPosition(geom, mesh.xy_m.x(), mesh.xy_m.y(), ground);
     set_yaw(geom, mesh.yaw_rad);
     physics.tag(geom, GeomRole::Obstacle, entity, physics.material_index(mesh.material));
   }
+  return problems;
 }
 
 }  // namespace sear

@@ -48,7 +48,7 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
   const auto ground = [&](const Eigen::Vector2d& at) {
     const double h = physics.terrain_height(at.x(), at.y(), std::nan(""));
     if (std::isnan(h))
-      throw std::runtime_error(fmt::format("{}:{}: error: robot '{}' starts at ({:.2f}, {:.2f}) m, where there is no terrain",
+      throw PlacementError(fmt::format("{}:{}: error: robot '{}' starts at ({:.2f}, {:.2f}) m, where there is no terrain",
                                            desc.source.file, desc.source.line, desc.name, at.x(), at.y()));
     return h;
   };
@@ -91,7 +91,8 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
   const Eigen::Vector3d up = yaw * Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d left = yaw * Eigen::Vector3d::UnitY();
   double fastest_motor = 10.0;
-  for (const auto& m : desc.motors) fastest_motor = std::max(fastest_motor, m.no_load_speed_radps);
+  for (const auto& m : desc.motors)
+    fastest_motor = std::max(fastest_motor, m.no_load_speed_radps * m.supply_voltage_v / m.rated_voltage_v);
   for (const auto& s : desc.servos) fastest_motor = std::max(fastest_motor, s.speed_radps);
 
   for (const auto& w : desc.wheels) {

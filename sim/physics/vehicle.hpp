@@ -4,12 +4,18 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <stdexcept>
 #include <vector>
 
 #include "physics/dc_motor.hpp"
 #include "physics/physics_world.hpp"
 
 namespace sear {
+
+// A robot or obstacle that cannot be placed in the world, "file:line: error: ..." in what().
+struct PlacementError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 struct VehicleState {
   Eigen::Vector3d position_m;        // chassis origin, world frame

@@ -12,11 +12,22 @@ Simulation::Simulation(const ProjectDesc& project, std::uint64_t seed)
       physics_(std::make_unique<PhysicsWorld>(project.world, seed)),
       step_ns_(std::llround(project.world.step_s * 1e9)) {
   build_terrain(*physics_, project.world.terrain);
-  build_obstacles(*physics_, project.world);
+  // Placement is known only once the terrain exists: gather every problem, as the loader does.
+  std::vector<std::string> problems = build_obstacles(*physics_, project.world, project.file);
   for (const auto& robot : project.robots) {
-    vehicles_.push_back(std::make_unique<Vehicle>(*physics_, robot));
+    try {
+      vehicles_.push_back(std::make_unique<Vehicle>(*physics_, robot));
+    } catch (const PlacementError& e) {
+      problems.push_back(e.what());
+      continue;
+    }
     const auto p = vehicles_.back()->state().position_m;
     last_xy_.emplace_back(p.x(), p.y());
+  }
+  if (!problems.empty()) {
+    std::string all;
+    for (const auto& p : problems) all += (all.empty() ? "" : "\n") + p;
+    throw PlacementError(all);
   }
   script_cursor_.assign(vehicles_.size(), 0);
   tallies_.assign(vehicles_.size(), RobotTally{});

@@ -27,6 +27,7 @@ struct RobotTally {
 
 class Simulation {
  public:
+  // Throws PlacementError naming every robot and obstacle with no terrain under it.
   Simulation(const ProjectDesc& project, std::uint64_t seed);
 
   void step();

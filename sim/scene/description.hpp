@@ -143,7 +143,7 @@ struct MotorDesc {
   std::vector<std::string> wheels;
   double stall_torque_nm = 0.5;     // at rated_voltage_v
   double no_load_speed_radps = 20;  // at rated_voltage_v
-  double rated_voltage_v = 6;       // the datasheet's test voltage
+  double rated_voltage_v = 6;       // the datasheet's test voltage (default: the supply voltage)
   double supply_voltage_v = 6;      // the H-bridge's supply; stall torque and free speed scale with it
   double gear_friction_nm = 0;  // Coulomb friction of the gearbox, holds the wheels when unpowered
 };

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <fstream>
 #include <memory>
 
@@ -25,28 +26,64 @@ bool stb_swaps_16bit_pgm() {
   return swaps;
 }
 
-// The maxval of a binary PGM (P5), or 0 for any other file. stb returns PGM samples as stored,
-// without scaling them by maxval, so a 10-bit (maxval 1023) map would otherwise look nearly flat.
-// Read by hand: stb does not report maxval, and libnetpbm exits the process on a malformed file.
-unsigned pgm_maxval(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+// What a Netpbm header says. stb returns PGM samples as stored, without scaling them by maxval
+// (a 10-bit map would look nearly flat), reads 16-bit colour PPM one byte short per sample, and
+// fills a truncated file's missing samples with whatever memory held: we read the header ourselves
+// and refuse what stb gets wrong. By hand: stb does not report these fields, and libnetpbm exits
+// the process on a malformed file.
+struct NetpbmHeader {
+  bool is_netpbm = false;  // starts with 'P' and a digit
+  bool is_binary_gray = false;  // P5
+  bool header_complete = false;
+  unsigned width = 0, height = 0, maxval = 0;
+  std::streamoff data_offset = 0;
+};
+
+NetpbmHeader read_netpbm_header(std::ifstream& in) {
+  NetpbmHeader h;
   char magic[2] = {};
   in.read(magic, 2);
-  if (!in || magic[0] != 'P' || magic[1] != '5') return 0;
-  unsigned fields[3] = {};
-  for (unsigned& field : fields) {
+  if (!in || magic[0] != 'P' || !std::isdigit(static_cast<unsigned char>(magic[1]))) return h;
+  h.is_netpbm = true;
+  h.is_binary_gray = magic[1] == '5';
+  unsigned* fields[3] = {&h.width, &h.height, &h.maxval};
+  for (unsigned* field : fields) {
     while (in && (std::isspace(in.peek()) || in.peek() == '#')) {
-      if (in.get() == '#') in.ignore(1 << 16, '\n');  // a comment runs to the end of its line
+      if (in.get() != '#') continue;
+      while (in && in.peek() != '\n' && in.peek() != '\r') in.get();  // a comment runs to the end of its line
     }
-    if (!(in >> field)) return 0;
+    if (!std::isdigit(in.peek()) || !(in >> *field)) return h;
   }
-  return fields[2];
+  h.data_offset = static_cast<std::streamoff>(in.tellg()) + 1;  // one whitespace byte ends the header
+  h.header_complete = true;
+  return h;
 }
+
+// Empty when the file is one stb reads correctly, else why not.
+std::string netpbm_problem(const std::string& path, unsigned& maxval) {
+  std::ifstream in(path, std::ios::binary);
+  const NetpbmHeader h = read_netpbm_header(in);
+  maxval = 0;
+  if (!h.is_netpbm) return "";
+  if (!h.is_binary_gray) return "only binary greyscale Netpbm images (PGM, P5) are read as heightmaps";
+  if (!h.header_complete) return "malformed PGM header (expected 'P5 width height maxval')";
+  if (h.maxval == 0 || h.maxval > 65535) return "PGM maxval must be 1..65535";
+  const std::uintmax_t sample_bytes = h.maxval > 255 ? 2 : 1;
+  const std::uintmax_t needed = static_cast<std::uintmax_t>(h.data_offset) + sample_bytes * h.width * h.height;
+  in.seekg(0, std::ios::end);
+  if (static_cast<std::uintmax_t>(in.tellg()) < needed) return "PGM file is shorter than its header says";
+  maxval = h.maxval;
+  return "";
+}
+
 }  // namespace
 
 HeightmapImage load_heightmap_image(const std::string& path) {
   HeightmapImage out;
   int channels = 0;
+  unsigned maxval = 0;
+  out.error = netpbm_problem(path, maxval);
+  if (!out.error.empty()) return out;
   // 16-bit loading keeps the full depth of 16-bit PNG/PGM terrain and widens 8-bit files exactly.
   std::unique_ptr<stbi_us, void (*)(void*)> pixels(stbi_load_16(path.c_str(), &out.columns, &out.rows, &channels, 1),
                                                    stbi_image_free);
@@ -60,7 +97,6 @@ HeightmapImage load_heightmap_image(const std::string& path) {
   }
   const auto count = static_cast<std::size_t>(out.columns) * static_cast<std::size_t>(out.rows);
   out.levels.resize(count);
-  const unsigned maxval = pgm_maxval(path);
   const bool wide = maxval > 255;
   const bool swap = wide && stb_swaps_16bit_pgm();
   // stbi_load_16 widens 8-bit samples by 257 (0xff -> 0xffff); 16-bit PGM samples come as stored.

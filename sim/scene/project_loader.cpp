@@ -53,7 +53,8 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
           c.number("duration", project.run.duration_s, Range{0, kMaxTime_s, true, "> 0 and <= 1e7 s"}, "s");
       project.run.seed = static_cast<std::uint64_t>(
           c.number("seed", static_cast<double>(project.run.seed), Range::between(0, 4294967295.0, "0..4294967295")));
-      project.run.trace_rate_hz = c.number("trace_rate", project.run.trace_rate_hz, Range::positive(), "Hz");
+      project.run.trace_rate_hz =
+          c.number("trace_rate", project.run.trace_rate_hz, Range::between(0.01, 1e6, "0.01..1e6 Hz"), "Hz");
       c.finish();
     } else {
       RobotDesc robot;

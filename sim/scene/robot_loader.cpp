@@ -77,11 +77,12 @@ MotorDesc read_motor(ElementReader& r) {
     m.no_load_speed_radps =
         r.required_number("no_load_speed", Range::positive(), "rad/s (or give no_load_rpm)").value_or(1);
   }
-  m.rated_voltage_v = r.number("rated_voltage", m.rated_voltage_v, Range::positive(), "V");
-  m.supply_voltage_v = r.number("supply_voltage", m.rated_voltage_v, Range::positive(), "V");
+  // Without a rating the figures are taken as measured at the supply voltage.
+  m.supply_voltage_v = r.number("supply_voltage", m.supply_voltage_v, Range::positive(), "V");
+  m.rated_voltage_v = r.number("rated_voltage", m.supply_voltage_v, Range::positive(), "V");
   m.gear_friction_nm = r.number("gear_friction", m.gear_friction_nm, Range::non_negative(), "N*m");
-  if (m.gear_friction_nm >= m.stall_torque_nm)
-    r.error("<motor> 'gear_friction' must be below 'stall_torque', or the motor could never turn");
+  if (m.gear_friction_nm >= m.stall_torque_nm * m.supply_voltage_v / m.rated_voltage_v)
+    r.error("<motor> 'gear_friction' must be below the stall torque at the supply voltage, or the motor could never turn");
   r.finish();
   return m;
 }
@@ -228,6 +229,8 @@ bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& 
       read_robot_parts(base, *doc.RootElement(), world, diagnostics, robot, false);
       base.finish();
     }
+    check_at_most_one(element, file, diagnostics, {"pose", "script"});
+    // A <script> here replaces the robot file's: the project decides what this robot does.
     r.children({"pose", "script"}, [&](const tinyxml2::XMLElement& child) {
       if (std::string(child.Name()) == "script") {
         read_script(child, file, diagnostics, robot.script);
