@@ -14,12 +14,6 @@
 
 namespace sear {
 
-std::string path_beside(const std::string& file, const std::string& relative) {
-  const std::filesystem::path rel(relative);
-  if (rel.is_absolute()) return rel.string();
-  return (std::filesystem::path(file).parent_path() / rel).lexically_normal().string();
-}
-
 std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::string& path,
                                              Diagnostics& diagnostics) {
   tinyxml2::XMLDocument doc;
