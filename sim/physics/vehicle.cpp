@@ -91,8 +91,7 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
   const Eigen::Vector3d up = yaw * Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d left = yaw * Eigen::Vector3d::UnitY();
   double fastest_motor = 10.0;
-  for (const auto& m : desc.motors)
-    fastest_motor = std::max(fastest_motor, m.no_load_speed_radps * m.supply_voltage_v / m.rated_voltage_v);
+  for (const auto& m : desc.motors) fastest_motor = std::max(fastest_motor, m.no_load_speed_at_supply_radps());
   for (const auto& s : desc.servos) fastest_motor = std::max(fastest_motor, s.speed_radps);
 
   for (const auto& w : desc.wheels) {

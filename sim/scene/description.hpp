@@ -17,6 +17,9 @@ constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 // Longest time a run or a scripted command may name: times become integer nanoseconds.
 constexpr double kMaxTime_s = 1e7;
+// Trace rates a run accepts, from one row a 100 s to one a microsecond.
+constexpr double kMinTraceRate_hz = 0.01;
+constexpr double kMaxTraceRate_hz = 1e6;
 
 // Where a part was described, so that later checks can point at it.
 struct SourceRef {
@@ -146,6 +149,10 @@ struct MotorDesc {
   double rated_voltage_v = 6;       // the datasheet's test voltage (default: the supply voltage)
   double supply_voltage_v = 6;      // the H-bridge's supply; stall torque and free speed scale with it
   double gear_friction_nm = 0;  // Coulomb friction of the gearbox, holds the wheels when unpowered
+
+  // Both ends of the torque-speed line scale with the voltage applied; its slope does not.
+  double stall_torque_at_supply_nm() const { return stall_torque_nm * supply_voltage_v / rated_voltage_v; }
+  double no_load_speed_at_supply_radps() const { return no_load_speed_radps * supply_voltage_v / rated_voltage_v; }
 };
 
 struct ServoDesc {

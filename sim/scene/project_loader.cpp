@@ -48,7 +48,8 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
       project.run.seed = static_cast<std::uint64_t>(
           c.number("seed", static_cast<double>(project.run.seed), Range::between(0, 4294967295.0, "0..4294967295")));
       project.run.trace_rate_hz =
-          c.number("trace_rate", project.run.trace_rate_hz, Range::between(0.01, 1e6, "0.01..1e6 Hz"), "Hz");
+          c.number("trace_rate", project.run.trace_rate_hz,
+                   Range::between(kMinTraceRate_hz, kMaxTraceRate_hz, "0.01..1e6 Hz"), "Hz");
       c.finish();
     } else {
       RobotDesc robot;

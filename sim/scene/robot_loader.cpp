@@ -81,7 +81,7 @@ MotorDesc read_motor(ElementReader& r) {
   m.supply_voltage_v = r.number("supply_voltage", m.supply_voltage_v, Range::positive(), "V");
   m.rated_voltage_v = r.number("rated_voltage", m.supply_voltage_v, Range::positive(), "V");
   m.gear_friction_nm = r.number("gear_friction", m.gear_friction_nm, Range::non_negative(), "N*m");
-  if (m.gear_friction_nm >= m.stall_torque_nm * m.supply_voltage_v / m.rated_voltage_v)
+  if (m.gear_friction_nm >= m.stall_torque_at_supply_nm())
     r.error("<motor> 'gear_friction' must be below the stall torque at the supply voltage, or the motor could never turn");
   r.finish();
   return m;

@@ -1,6 +1,7 @@
 // `sear`: runs and checks SEAR projects.
 #include <CLI/CLI.hpp>
 
+#include "scene/description.hpp"
 #include "sear/commands.hpp"
 
 int main(int argc, char** argv) {
@@ -12,12 +13,12 @@ int main(int argc, char** argv) {
   run_cmd->add_option("project", run.project,
                       "Project file, or a folder holding project.xml (default: the bundled default project)");
   run_cmd->add_option("-d,--duration", run.duration_s, "Simulated seconds to run (default: the project's <run duration>)")
-      ->check(CLI::PositiveNumber & CLI::Range(0.0, 1e7));
+      ->check(CLI::PositiveNumber & CLI::Range(0.0, sear::kMaxTime_s));
   run_cmd->add_option("-s,--seed", run.seed, "Random seed (default: the project's <run seed>)");
   run_cmd->add_option("-o,--out", run.out_dir, "Output folder for traces and the summary")->capture_default_str();
   run_cmd->add_option("-r,--trace-rate", run.trace_rate_hz,
                       "Trace rows per simulated second, rounded to whole steps (default: the project's)")
-      ->check(CLI::Range(0.01, 1e6));
+      ->check(CLI::Range(sear::kMinTraceRate_hz, sear::kMaxTraceRate_hz));
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing but errors");
 
   std::string check_project;
