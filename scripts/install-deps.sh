@@ -9,6 +9,7 @@ packages=(
   libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
   clang libclang-rt-14-dev   # libFuzzer for the project-file fuzz target
+  gcc-avr avr-libc binutils-avr  # the ATmega2560 build of the HAL and the firmware examples
 )
 
 missing=()

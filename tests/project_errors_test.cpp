@@ -470,7 +470,7 @@ TEST(ProjectErrors, TheBundledDefaultProjectLoadsAsWritten) {
 
   EXPECT_EQ(world.boxes.size(), 3u);
   EXPECT_EQ(world.trees.size(), 2u);
-  EXPECT_EQ(world.walls.size(), 2u);
+  EXPECT_EQ(world.walls.size(), 4u);  // an arena: north, east, south and west
   ASSERT_EQ(world.meshes.size(), 1u);
   EXPECT_EQ(world.meshes[0].name, "rock");
   EXPECT_FALSE(world.meshes[0].mesh.indices.empty());
@@ -495,11 +495,26 @@ TEST(ProjectErrors, TheBundledDefaultProjectLoadsAsWritten) {
     EXPECT_NEAR(motor.no_load_speed_radps, 160.0 * 2.0 * kPi / 60.0, 1e-9);
     EXPECT_DOUBLE_EQ(motor.stall_torque_nm, 0.6);
   }
-  ASSERT_EQ(rover.script.size(), 10u);
-  EXPECT_TRUE(std::is_sorted(rover.script.begin(), rover.script.end(),
-                             [](const ScriptCommand& a, const ScriptCommand& b) { return a.t_s < b.t_s; }));
-  EXPECT_DOUBLE_EQ(rover.script.back().t_s, 28.0);
-  EXPECT_EQ(rover.script.back().direction, MotorDirection::Brake);
+  // Firmware drives it: the obstacle avoider on one MCU, compiled from its source.
+  EXPECT_TRUE(rover.script.empty());
+  ASSERT_EQ(rover.mcus.size(), 1u);
+  const McuDesc& mcu = rover.mcus[0];
+  EXPECT_EQ(mcu.name, "main");
+  ASSERT_EQ(mcu.firmware_sources.size(), 1u);
+  EXPECT_EQ(fs::path(mcu.firmware_sources[0]).filename(), "avoider.c");
+  EXPECT_TRUE(fs::exists(mcu.firmware_sources[0]));
+  ASSERT_EQ(mcu.rangers.size(), 3u);
+  EXPECT_EQ(mcu.rangers[0].adc_channel, 0);
+  EXPECT_NEAR(mcu.rangers[0].yaw_rad, 30 * kPi / 180, 1e-12);
+  EXPECT_EQ(mcu.rangers[2].model, IrRangerDesc::Model::Gp2d15);
+  EXPECT_EQ(mcu.rangers[2].pin, 22);
+  ASSERT_EQ(mcu.bumps.size(), 1u);
+  EXPECT_EQ(mcu.bumps[0].pin, 2);
+  ASSERT_EQ(mcu.motors.size(), 2u);
+  EXPECT_EQ(mcu.motors[0].motor, "left");
+  EXPECT_EQ(mcu.motors[0].pwm_pin, 3);
+  EXPECT_EQ(mcu.motors[0].dir_pin, 12);
+  EXPECT_EQ(mcu.motors[0].brake_pin, 9);
 }
 
 TEST(ProjectErrors, LatitudeLongitudePoseLandsWhereTheTangentPlaneSays) {

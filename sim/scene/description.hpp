@@ -180,6 +180,79 @@ struct ScriptCommand {
   double pulse_us = 1500;  // servos
 };
 
+// A Sharp infrared ranger on the robot, wired to an MCU: the GP2D12 gives a voltage on an ADC
+// channel, the GP2D15 a level on a pin. The beam is a bundle of rays (see sensors/range_sensor).
+struct IrRangerDesc {
+  enum class Model { Gp2d12, Gp2d15 } model = Model::Gp2d12;
+  std::string name;
+  SourceRef source;
+  Eigen::Vector3d position_m{0, 0, 0};  // robot frame
+  double yaw_rad = 0;                   // counter-clockwise from the robot's x axis
+  double pitch_rad = 0;                 // positive tilts the beam down
+  double half_angle_rad = 0;            // 0: a single ray
+  double resolution_rad = 1 * kDegToRad;
+  double max_range_m = 1.5;             // the rays' length; beyond it the sensor sees nothing
+  double period_s = 0.0383;             // a new measurement this often, output held between
+  double noise_sd_v = 0;                // GP2D12 output noise
+  double switch_distance_m = 0.24;      // GP2D15
+  double hysteresis_m = 0.01;           // GP2D15
+  int adc_channel = -1;                 // GP2D12
+  int pin = -1;                         // GP2D15
+};
+
+// A bump switch: a lever of `width_m` across the robot's front (or wherever it is mounted) that
+// closes a contact to ground when something comes within `reach_m` of its mount.
+struct BumpSwitchDesc {
+  std::string name;
+  SourceRef source;
+  Eigen::Vector3d position_m{0, 0, 0};  // robot frame, centre of the lever's base
+  double yaw_rad = 0;                   // the direction it faces
+  double width_m = 0.1;
+  double reach_m = 0.01;
+  int pin = -1;
+};
+
+// A motor's H-bridge inputs on MCU pins: speed as PWM duty on `pwm_pin`, direction on `dir_pin`
+// (HIGH forward unless `reversed`), and an optional brake pin (HIGH shorts the motor).
+struct MotorWiring {
+  std::string motor;
+  SourceRef source;
+  int pwm_pin = -1;
+  int dir_pin = -1;
+  int brake_pin = -1;
+  bool reversed = false;
+};
+
+struct ServoWiring {
+  std::string servo;
+  SourceRef source;
+  int pin = -1;
+};
+
+struct UartDesc {
+  int port = 0;
+  SourceRef source;
+  bool loopback = false;  // TX wired to RX, as with a jumper on the bench
+};
+
+// A microcontroller on the robot: its firmware, clock, supply and everything wired to it.
+struct McuDesc {
+  std::string name;
+  SourceRef source;
+  std::string firmware_executable;            // absolute path, or empty when built from sources
+  std::vector<std::string> firmware_sources;  // absolute paths of C files
+  double clock_hz = 16e6;
+  double hal_call_cycles = 50;  // what one HAL call costs on the chip
+  double avcc_v = 5.0;
+  double aref_v = 3.3;
+  int console_uart = 0;
+  std::vector<IrRangerDesc> rangers;
+  std::vector<BumpSwitchDesc> bumps;
+  std::vector<MotorWiring> motors;
+  std::vector<ServoWiring> servos;
+  std::vector<UartDesc> uarts;
+};
+
 struct RobotDesc {
   std::string name;
   SourceRef source;        // the <robot> element in the project
@@ -193,6 +266,7 @@ struct RobotDesc {
   std::vector<MotorDesc> motors;
   std::vector<ServoDesc> servos;
   std::vector<ScriptCommand> script;  // sorted by time
+  std::vector<McuDesc> mcus;
 };
 
 struct RunDesc {

@@ -41,6 +41,12 @@ bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& 
 void read_script(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
                  std::vector<ScriptCommand>& script);
 
+// An <mcu> element of a project's robot.
+void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics, McuDesc& mcu);
+
+// Cross-checks of a robot's MCUs against its parts: names, pins and channels used once.
+void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics);
+
 // Cross-checks of one robot once all its parts are read (wiring, drive layout, script names).
 void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics);
 

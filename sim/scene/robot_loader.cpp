@@ -166,8 +166,13 @@ void read_robot_parts(ElementReader& r, const tinyxml2::XMLElement& element, Wor
     } else if (kind == "motor") robot.motors.push_back(read_motor(c));
     else if (kind == "servo") robot.servos.push_back(read_servo(c));
     else if (kind == "script") read_script(child, r.file(), diagnostics, robot.script);
+    else if (kind == "mcu") {
+      robot.mcus.emplace_back();
+      read_mcu(child, r.file(), diagnostics, robot.mcus.back());
+    }
   };
-  if (inline_robot) r.children({"pose", "material", "chassis", "wheel", "caster", "motor", "servo", "script"}, visit);
+  if (inline_robot)
+    r.children({"pose", "material", "chassis", "wheel", "caster", "motor", "servo", "script", "mcu"}, visit);
   else r.children({"material", "chassis", "wheel", "caster", "motor", "servo", "script"}, visit);
 }
 
@@ -230,10 +235,14 @@ bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& 
       base.finish();
     }
     check_at_most_one(element, file, diagnostics, {"pose", "script"});
-    // A <script> here replaces the robot file's: the project decides what this robot does.
-    r.children({"pose", "script"}, [&](const tinyxml2::XMLElement& child) {
+    // A <script> here replaces the robot file's: the project decides what this robot does, and
+    // which firmware runs on it.
+    r.children({"pose", "script", "mcu"}, [&](const tinyxml2::XMLElement& child) {
       if (std::string(child.Name()) == "script") {
         read_script(child, file, diagnostics, robot.script);
+      } else if (std::string(child.Name()) == "mcu") {
+        robot.mcus.emplace_back();
+        read_mcu(child, file, diagnostics, robot.mcus.back());
       } else {
         ElementReader p(&child, file, diagnostics);
         read_pose(p, world, robot);

@@ -85,6 +85,7 @@ void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics) {
     if (w.steered && !driven_by.count("steer:" + w.name))
       fail(w.source, fmt::format("steered wheel '{}' has no positional servo steering it", w.name));
 
+  validate_mcus(robot, diagnostics);
   for (const auto& cmd : robot.script) {
     const auto motor = std::find_if(robot.motors.begin(), robot.motors.end(),
                                     [&](const MotorDesc& m) { return m.name == cmd.actuator; });

@@ -12,6 +12,11 @@ double real_time_factor(const Simulation& sim, const RunOutcome& o) {
 }
 }  // namespace
 
+std::string describe(const McuStop& stop) {
+  return fmt::format("mcu {} {} at sim time {:.6f} s; last HAL call: {}", stop.mcu, describe(stop.failure),
+                     static_cast<double>(stop.failure.time_ns) * 1e-9, stop.failure.last_call);
+}
+
 std::string summary_text(const Simulation& sim, const RunOutcome& o) {
   std::string out = fmt::format("SEAR run of '{}' ({}), seed {}: {}\n", o.project_name, o.project_file, o.seed, o.status);
   out += fmt::format("  sim time {:.3f} s, wall time {:.3f} s, real-time factor {:.1f}x\n", sim.time_s(), o.wall_time_s,
@@ -24,6 +29,7 @@ std::string summary_text(const Simulation& sim, const RunOutcome& o) {
   }
   for (const auto& c : sim.collisions())
     out += fmt::format("  collision at {:.3f} s: {} hit {}\n", static_cast<double>(c.time_ns) * 1e-9, c.robot, c.other);
+  for (const auto& stop : o.mcu_stops) out += fmt::format("  {}\n", describe(stop));
   return out;
 }
 
@@ -51,6 +57,15 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
   for (const auto& c : sim.collisions())
     j["collision_events"].push_back(
         {{"time_s", static_cast<double>(c.time_ns) * 1e-9}, {"robot", c.robot}, {"other", c.other}});
+  j["mcu_stops"] = nlohmann::ordered_json::array();
+  static const char* const kinds[] = {"exited", "crashed", "hung", "refused"};
+  for (const auto& stop : o.mcu_stops)
+    j["mcu_stops"].push_back({{"mcu", stop.mcu},
+                              {"kind", kinds[static_cast<int>(stop.failure.kind)]},
+                              {"code", stop.failure.code},
+                              {"detail", stop.failure.detail},
+                              {"sim_time_s", static_cast<double>(stop.failure.time_ns) * 1e-9},
+                              {"last_hal_call", stop.failure.last_call}});
   return j.dump(2) + "\n";
 }
 

@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <string>
 
+#include <vector>
+
+#include "runtime/lockstep.hpp"
 #include "runtime/simulation.hpp"
 
 namespace sear {
@@ -14,8 +17,12 @@ struct RunOutcome {
   std::string project_name;
   std::uint64_t seed = 0;
   double wall_time_s = 0;
-  std::string status = "completed";  // or "interrupted"
+  std::string status = "completed";  // or "interrupted", "mcu stopped"
+  std::vector<McuStop> mcu_stops;    // firmware that crashed, exited, hung or was refused
 };
+
+// "mcu rover.main crashed with signal 11 (...) at sim time 1.234 s; last HAL call: adc_read"
+std::string describe(const McuStop& stop);
 
 std::string summary_text(const Simulation& sim, const RunOutcome& outcome);
 std::string summary_json(const Simulation& sim, const RunOutcome& outcome);

@@ -14,12 +14,19 @@ struct RunOptions {
   std::optional<double> trace_rate_hz;   // overrides the project's <run trace_rate>
   std::string out_dir = "sear-out";
   bool quiet = false;
+  double hang_timeout_s = 5;  // host seconds a firmware may go without progress
+  bool keep_going = false;    // a stopped firmware does not end the run
 };
 
 // A project argument as the user typed it -> the project file to load.
 std::string resolve_project_path(const std::string& argument);
 
 int run_command(const RunOptions& options);
+
+struct ProjectDesc;
+// Builds the firmware of every MCU that names C sources (cached) and records the executable in its
+// description. Throws FirmwareBuildError with the compiler's messages.
+void build_project_firmware(ProjectDesc& project, bool quiet);
 int check_command(const std::string& project);
 
 }  // namespace sear

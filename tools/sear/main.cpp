@@ -20,6 +20,12 @@ int main(int argc, char** argv) {
                       "Trace rows per simulated second, rounded to whole steps (default: the project's)")
       ->check(CLI::Range(sear::kMinTraceRate_hz, sear::kMaxTraceRate_hz));
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing but errors");
+  run_cmd->add_option("--hang-timeout", run.hang_timeout_s,
+                      "Host seconds a firmware may go without a HAL call before it is reported as hung and stopped")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 3600.0));
+  run_cmd->add_flag("--keep-going", run.keep_going,
+                    "When a firmware crashes, exits or hangs, go on without that MCU (the run still fails at the end)");
 
   std::string check_project;
   CLI::App* check_cmd = app.add_subcommand("check", "Validate a project without running it; lists every error found");

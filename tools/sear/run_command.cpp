@@ -8,10 +8,12 @@
 #include <filesystem>
 #include <fstream>
 
+#include "exporters/mcu_capture.hpp"
 #include "exporters/run_summary.hpp"
 #include "exporters/trace_csv.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
+#include "sear/firmware_builder.hpp"
 
 namespace sear {
 namespace {
@@ -47,9 +49,21 @@ int run_command(const RunOptions& options) {
   if (options.trace_rate_hz) project->run.trace_rate_hz = *options.trace_rate_hz;
 
   try {
+    build_project_firmware(*project, options.quiet);
+  } catch (const FirmwareBuildError& e) {
+    fmt::print(stderr, "{}\n", e.what());
+    return 1;
+  }
+
+  try {
     std::filesystem::create_directories(options.out_dir);
     Simulation sim(*project, project->run.seed);
     TraceCsv trace(options.out_dir, sim);
+    std::vector<McuCapture::Mcu> mcus;
+    for (const auto& robot : project->robots)
+      for (const auto& mcu : robot.mcus) mcus.push_back({robot.name + "." + mcu.name, mcu.console_uart});
+    McuCapture capture(options.out_dir, mcus, !options.quiet);
+    Lockstep lockstep(sim, *project, {options.out_dir, options.hang_timeout_s, options.keep_going}, capture);
     const std::int64_t end_ns = std::llround(project->run.duration_s * 1e9);
     const std::int64_t trace_every =
         std::max<std::int64_t>(1, std::llround(1e9 / project->run.trace_rate_hz / static_cast<double>(sim.step_ns())));
@@ -63,8 +77,15 @@ int run_command(const RunOptions& options) {
 
     trace.write_row(sim);
     std::int64_t steps = 0;
+    std::size_t stops_reported = 0;
     while (sim.time_ns() < end_ns && !g_stop_requested) {
-      sim.step();
+      const bool go_on = lockstep.step();
+      for (; stops_reported < lockstep.stops().size(); ++stops_reported) {
+        if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
+        fmt::print(stderr, "sear: {} (its output: {}/{}.host.log)\n", describe(lockstep.stops()[stops_reported]),
+                   options.out_dir, lockstep.stops()[stops_reported].mcu);
+      }
+      if (!go_on) break;
       if (++steps % trace_every == 0) trace.write_row(sim);
       if (show_progress && (steps & 1023) == 0 && seconds_since(start) >= next_progress_s) {
         next_progress_s += 0.5;
@@ -75,13 +96,15 @@ int run_command(const RunOptions& options) {
     }
     if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
     trace.flush();
+    capture.finish();
 
     RunOutcome outcome;
     outcome.project_file = path;
     outcome.project_name = project->name;
     outcome.seed = project->run.seed;
     outcome.wall_time_s = seconds_since(start);
-    outcome.status = g_stop_requested ? "interrupted" : "completed";
+    outcome.mcu_stops = lockstep.stops();
+    outcome.status = g_stop_requested ? "interrupted" : !outcome.mcu_stops.empty() ? "mcu stopped" : "completed";
     const std::string text = summary_text(sim, outcome);
     write_file(options.out_dir + "/summary.txt", text);
     write_file(options.out_dir + "/summary.json", summary_json(sim, outcome));
@@ -89,9 +112,11 @@ int run_command(const RunOptions& options) {
       fmt::print("{}", text);
       fmt::print("  output: {}/ (summary.txt, summary.json", options.out_dir);
       for (const auto& f : trace.files()) fmt::print(", {}", std::filesystem::path(f).filename().string());
+      for (const auto& f : capture.files()) fmt::print(", {}", std::filesystem::path(f).filename().string());
       fmt::print(")\n");
     }
-    return g_stop_requested ? 130 : 0;
+    if (g_stop_requested) return 130;
+    return outcome.mcu_stops.empty() ? 0 : 3;
   } catch (const std::exception& e) {
     fmt::print(stderr, "{}\n", e.what());
     return 1;

@@ -1,0 +1,27 @@
+/* Counter-based noise for device models: the k-th draw is a pure function of (seed, k), so a
+ * sample's noise never depends on how many other samples were drawn before it, or in what order. */
+#ifndef SEAR_DEVICES_NOISE_H
+#define SEAR_DEVICES_NOISE_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Uniform 64-bit hash of (seed, index): element `index` of the splitmix64 stream started from a
+ * scrambled `seed`. Distinct seeds give unrelated streams, not shifted copies of one stream. */
+uint64_t noise_hash64(uint64_t seed, uint64_t index);
+
+/* Uniform in [0, 1) with 53 random bits. Drawn from a stream separate from noise_gaussian's,
+ * so a model may use both with one seed without the two being correlated. */
+double noise_uniform(uint64_t seed, uint64_t index);
+
+/* Standard normal N(0, 1) by Box-Muller from two uniforms; the same (seed, index) gives the
+ * same value in the same build. */
+double noise_gaussian(uint64_t seed, uint64_t index);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

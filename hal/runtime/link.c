@@ -1,0 +1,111 @@
+/* The firmware's end of the lockstep link: attaching to the page the simulator shares before
+ * main() runs, handing the turn back and forth, and the event queue towards the simulator. */
+#define _GNU_SOURCE
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include "mcu.h"
+#include "runtime/lockstep_handoff.h"
+
+struct mcu sear_mcu;
+
+/* Spinning this long covers a physics step with room to spare; beyond it the simulator is
+ * probably busy with other MCUs, and sleeping frees the core for them. */
+#define SPIN_NS 200000
+
+static pid_t simulator;
+
+/* Waits for the turn; a simulator that died without handing it over (killed outright) must not
+ * leave this process waiting for ever. */
+static void wait_for_turn(void) {
+  struct sear_link *link = sear_mcu.link;
+  while (!sear_handoff_wait(&link->turn, SEAR_TURN_FIRMWARE, &link->firmware_waiting, SPIN_NS, 1000000000))
+    if (getppid() != simulator) _exit(3);
+}
+
+static void hand_over(enum sear_request request) {
+  struct sear_link *link = sear_mcu.link;
+  link->request = (uint32_t)request;
+  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
+  wait_for_turn();
+}
+
+/* Bytes the simulator queued for this quantum join each port's arrivals, still in time order. */
+static void take_quantum(void) {
+  struct sear_link *link = sear_mcu.link;
+  sear_mcu.sample_next = 0;
+  for (uint32_t i = 0; i < link->rx_count; ++i)
+    mcu_uart_arrive(link->rx[i].port, link->rx[i].byte, link->rx[i].time_ns);
+}
+
+void mcu_exchange(void) {
+  hand_over(SEAR_REQUEST_QUANTUM_DONE);
+  take_quantum();
+}
+
+void mcu_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns) {
+  struct sear_link *link = sear_mcu.link;
+  if (link->event_count == SEAR_LINK_MAX_EVENTS) hand_over(SEAR_REQUEST_DRAIN);
+  struct sear_event *e = &link->events[link->event_count];
+  e->time_ns = time_ns;
+  e->value = value;
+  e->kind = (uint8_t)kind;
+  e->index = index;
+  /* Published only once written, so a crash right after leaves no half event behind. */
+  __atomic_store_n(&link->event_count, link->event_count + 1, __ATOMIC_RELEASE);
+}
+
+void mcu_fatal(const char *format, ...) {
+  struct sear_link *link = sear_mcu.link;
+  va_list args;
+  va_start(args, format);
+  vsnprintf(link->fatal, sizeof link->fatal, format, args);
+  va_end(args);
+  link->request = SEAR_REQUEST_FATAL;
+  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
+  _exit(70);
+}
+
+/* main() returned or exit() was called: tell the simulator at once rather than let it find the
+ * process gone at its next check. */
+static void at_exit(void) {
+  struct sear_link *link = sear_mcu.link;
+  link->request = SEAR_REQUEST_EXIT;
+  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
+}
+
+__attribute__((constructor)) static void attach(void) {
+  const char *fd_text = getenv(SEAR_LINK_FD_ENV);
+  if (!fd_text) {
+    fprintf(stderr, "This firmware was built for the SEAR simulator: run it through a project, "
+                    "with `sear run PROJECT`.\n");
+    _exit(2);
+  }
+  const int fd = atoi(fd_text);
+  void *page = mmap(NULL, sizeof(struct sear_link), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  if (page == MAP_FAILED) {
+    perror("sear: mapping the lockstep link");
+    _exit(2);
+  }
+  close(fd);
+  struct sear_link *link = page;
+  if (link->magic != SEAR_LINK_MAGIC || link->version != SEAR_LINK_VERSION) {
+    fprintf(stderr, "sear: this firmware's HAL runtime does not match the simulator; rebuild it\n");
+    _exit(2);
+  }
+  sear_mcu.link = link;
+  sear_mcu.cost_ns = link->hal_call_cost_ns;
+  sear_mcu.adc_bits = 10;
+  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) sear_mcu.driven[pin] = MCU_FLOATING;
+  for (uint32_t i = 0; i < link->input_count; ++i)
+    gp2d15_init(&sear_mcu.rangers[i], link->inputs[i].switch_distance_m, link->inputs[i].hysteresis_m);
+  simulator = getppid();
+  atexit(at_exit);
+  wait_for_turn();
+  take_quantum();
+  mcu_reschedule();
+}

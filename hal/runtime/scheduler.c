@@ -1,0 +1,174 @@
+/* When things happen in the firmware's virtual time: quantum hand-overs, sensor samples and
+ * received bytes falling due, and interrupts delivered at the first HAL call after they do. */
+#include "devices/sharp_gp2d12.h"
+#include "mcu.h"
+
+void mcu_exchange(void);
+
+static int64_t earliest_arrival(void) {
+  int64_t t = MCU_TIME_NEVER;
+  for (int port = 0; port < SEAR_LINK_UARTS; ++port) {
+    const struct mcu_uart *u = &sear_mcu.uart[port];
+    if (u->arrival_count && u->arrivals[u->arrival_head].time_ns < t) t = u->arrivals[u->arrival_head].time_ns;
+  }
+  return t;
+}
+
+static int64_t earliest_input(void) {
+  const struct sear_link *link = sear_mcu.link;
+  int64_t t = MCU_TIME_NEVER;
+  if (sear_mcu.sample_next < link->sample_count) t = link->samples[sear_mcu.sample_next].time_ns;
+  const int64_t a = earliest_arrival();
+  if (a < t) t = a;
+  if (sear_mcu.timer_handler && sear_mcu.timer_due_ns < t) t = sear_mcu.timer_due_ns;
+  return t;
+}
+
+static int interrupt_pending(void) {
+  if (sear_mcu.timer_pending) return 1;
+  for (int port = 0; port < SEAR_LINK_UARTS; ++port)
+    if (sear_mcu.uart[port].handler_count) return 1;
+  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin)
+    if (sear_mcu.pin_pending[pin]) return 1;
+  return 0;
+}
+
+void mcu_reschedule(void) {
+  int64_t t = sear_mcu.link->quantum_end_ns;
+  const int64_t input = earliest_input();
+  if (input < t) t = input;
+  if (sear_mcu.irq_enabled && !sear_mcu.in_isr && interrupt_pending()) t = 0;
+  sear_mcu.next_due_ns = t;
+}
+
+static void apply_sample(const struct sear_link_sample *s) {
+  const struct sear_link_input *in = &sear_mcu.link->inputs[s->input];
+  switch (in->kind) {
+    case SEAR_INPUT_GP2D12:
+      sear_mcu.analog_v[in->target] = gp2d12_sample_v(s->value, in->seed, s->index, in->noise_sd);
+      break;
+    case SEAR_INPUT_GP2D15:
+      mcu_set_driven((uint8_t)in->target, (uint8_t)gp2d15_update(&sear_mcu.rangers[s->input], s->value),
+                     s->time_ns);
+      break;
+    case SEAR_INPUT_SWITCH:
+      /* A closed contact pulls the pin to ground; an open one leaves it to the pull-up. */
+      mcu_set_driven((uint8_t)in->target, s->value != 0.0 ? 0 : MCU_FLOATING, s->time_ns);
+      break;
+    default:
+      break;
+  }
+}
+
+static void take_arrival(struct mcu_uart *u, uint8_t port) {
+  const struct mcu_arrival a = u->arrivals[u->arrival_head];
+  u->arrival_head = (u->arrival_head + 1) % MCU_ARRIVALS;
+  u->arrival_count--;
+  mcu_emit(SEAR_EVENT_UART_RX, port, a.byte, a.time_ns);
+  if (u->rx_handler) {
+    if (u->handler_count < HAL_UART_BUFFER)
+      u->handler_bytes[(uint8_t)(u->handler_head + u->handler_count++) % HAL_UART_BUFFER] = a.byte;
+    else
+      u->rx_overruns++;
+  } else if (u->rx_count < HAL_UART_BUFFER) {
+    u->rx[(uint8_t)(u->rx_head + u->rx_count++) % HAL_UART_BUFFER] = a.byte;
+  } else {
+    u->rx_overruns++;
+  }
+}
+
+/* Applies every sample, byte and timer tick due by `now`, oldest first. */
+static void apply_due(int64_t now) {
+  const struct sear_link *link = sear_mcu.link;
+  for (;;) {
+    int64_t t = MCU_TIME_NEVER;
+    int which = -1; /* 0 sample, 1 timer, 2 + port: arrival */
+    if (sear_mcu.sample_next < link->sample_count) {
+      t = link->samples[sear_mcu.sample_next].time_ns;
+      which = 0;
+    }
+    if (sear_mcu.timer_handler && sear_mcu.timer_due_ns < t) {
+      t = sear_mcu.timer_due_ns;
+      which = 1;
+    }
+    for (int port = 0; port < SEAR_LINK_UARTS; ++port) {
+      const struct mcu_uart *u = &sear_mcu.uart[port];
+      if (u->arrival_count && u->arrivals[u->arrival_head].time_ns < t) {
+        t = u->arrivals[u->arrival_head].time_ns;
+        which = 2 + port;
+      }
+    }
+    if (which < 0 || t > now) return;
+    if (which == 0) {
+      apply_sample(&link->samples[sear_mcu.sample_next++]);
+    } else if (which == 1) {
+      /* One pending flag, as in the timer's hardware: ticks missed meanwhile are lost. */
+      sear_mcu.timer_pending = 1;
+      sear_mcu.timer_due_ns += sear_mcu.timer_period_ns;
+    } else {
+      take_arrival(&sear_mcu.uart[which - 2], (uint8_t)(which - 2));
+    }
+  }
+}
+
+static void run_isr(irq_handler handler) {
+  sear_mcu.in_isr = 1;
+  handler();
+  sear_mcu.in_isr = 0;
+}
+
+/* In the chip's vector order: external and pin-change interrupts, then the timer, then UARTs. */
+static int deliver_one(void) {
+  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) {
+    if (sear_mcu.pin_pending[pin]) {
+      sear_mcu.pin_pending[pin] = 0;
+      if (sear_mcu.pin_handler[pin]) run_isr(sear_mcu.pin_handler[pin]);
+      return 1;
+    }
+  }
+  if (sear_mcu.timer_pending) {
+    sear_mcu.timer_pending = 0;
+    if (sear_mcu.timer_handler) run_isr(sear_mcu.timer_handler);
+    return 1;
+  }
+  for (int port = 0; port < SEAR_LINK_UARTS; ++port) {
+    struct mcu_uart *u = &sear_mcu.uart[port];
+    if (u->handler_count) {
+      const uint8_t byte = u->handler_bytes[u->handler_head];
+      u->handler_head = (uint8_t)((u->handler_head + 1) % HAL_UART_BUFFER);
+      u->handler_count--;
+      if (u->rx_handler) {
+        sear_mcu.in_isr = 1;
+        u->rx_handler(byte);
+        sear_mcu.in_isr = 0;
+      }
+      return 1;
+    }
+  }
+  return 0;
+}
+
+void mcu_service(void) {
+  struct sear_link *link = sear_mcu.link;
+  for (;;) {
+    apply_due(link->clock_ns < link->quantum_end_ns ? link->clock_ns : link->quantum_end_ns - 1);
+    if (link->clock_ns >= link->quantum_end_ns) {
+      mcu_exchange();
+      continue;
+    }
+    if (!(sear_mcu.irq_enabled && !sear_mcu.in_isr && deliver_one())) break;
+  }
+  mcu_reschedule();
+}
+
+void mcu_advance_to(int64_t t_ns) {
+  struct sear_link *link = sear_mcu.link;
+  for (;;) {
+    mcu_service();
+    if (link->clock_ns >= t_ns) return;
+    int64_t next = earliest_input();
+    if (t_ns < next) next = t_ns;
+    if (next > link->quantum_end_ns) next = link->quantum_end_ns;
+    if (next > link->clock_ns) link->clock_ns = next;
+  }
+}

@@ -1,0 +1,87 @@
+/* Serial ports: bytes leave at the baud rate through a 64-byte buffer, each stamped with the end
+ * of its stop bit; received bytes become readable (or raise their interrupt) once they are due. */
+#include <hal/uart.h>
+
+#include "mcu.h"
+
+static struct mcu_uart *port_of(uint8_t port, const char *call) {
+  if (port >= HAL_UART_COUNT) mcu_fatal("%s(%u): the ATmega2560 has UARTs 0..3", call, port);
+  return &sear_mcu.uart[port];
+}
+
+/* End of the stop bit of byte n (from 1) of the current burst: 10 bit times each (8N1). */
+static int64_t burst_end(const struct mcu_uart *u, uint64_t n) {
+  return u->anchor_ns + (int64_t)((n * 10ull * 1000000000ull + u->baud / 2) / u->baud);
+}
+
+void uart_begin(uint8_t port, uint32_t baud) {
+  const int64_t now = mcu_enter(SEAR_CALL_uart_begin);
+  struct mcu_uart *u = port_of(port, "uart_begin");
+  if (baud < 300 || baud > 2000000) mcu_fatal("uart_begin(%u, %lu): baud must be 300..2000000", port, (unsigned long)baud);
+  u->baud = baud;
+  u->anchor_ns = now;
+  u->burst = 0;
+  u->last_end_ns = now;
+  mcu_emit(SEAR_EVENT_UART_BEGIN, port, baud, now);
+}
+
+void mcu_uart_arrive(uint8_t port, uint8_t byte, int64_t time_ns) {
+  struct mcu_uart *u = &sear_mcu.uart[port];
+  if (u->arrival_count == MCU_ARRIVALS) {
+    u->rx_overruns++;
+    return;
+  }
+  struct mcu_arrival *a = &u->arrivals[(u->arrival_head + u->arrival_count++) % MCU_ARRIVALS];
+  a->time_ns = time_ns;
+  a->byte = byte;
+}
+
+static void send(uint8_t port, struct mcu_uart *u, uint8_t byte, int64_t now) {
+  if (!u->baud) return; /* the transmitter is off until uart_begin(), as on the chip */
+  if (u->last_end_ns <= now) {
+    u->anchor_ns = now;
+    u->burst = 0;
+  }
+  /* The buffer holds HAL_UART_BUFFER bytes not yet on the wire: wait for one to leave. */
+  if (u->burst >= HAL_UART_BUFFER) {
+    const int64_t room_at = burst_end(u, u->burst - HAL_UART_BUFFER + 1);
+    if (room_at > sear_mcu.link->clock_ns) mcu_advance_to(room_at);
+  }
+  const int64_t end = burst_end(u, ++u->burst);
+  u->last_end_ns = end;
+  mcu_emit(SEAR_EVENT_UART_TX, port, byte, end);
+  if (sear_mcu.link->uart_loopback_mask & (1u << port)) mcu_uart_arrive(port, byte, end);
+  mcu_reschedule();
+}
+
+void uart_write(uint8_t port, uint8_t byte) {
+  const int64_t now = mcu_enter(SEAR_CALL_uart_write);
+  send(port, port_of(port, "uart_write"), byte, now);
+}
+
+void uart_print(uint8_t port, const char *text) {
+  const int64_t now = mcu_enter(SEAR_CALL_uart_print);
+  struct mcu_uart *u = port_of(port, "uart_print");
+  for (; *text; ++text) send(port, u, (uint8_t)*text, now > sear_mcu.link->clock_ns ? now : sear_mcu.link->clock_ns);
+}
+
+void uart_flush(uint8_t port) {
+  mcu_enter(SEAR_CALL_uart_flush);
+  struct mcu_uart *u = port_of(port, "uart_flush");
+  if (u->baud && u->last_end_ns > sear_mcu.link->clock_ns) mcu_advance_to(u->last_end_ns);
+}
+
+uint8_t uart_available(uint8_t port) {
+  mcu_enter(SEAR_CALL_uart_available);
+  return port_of(port, "uart_available")->rx_count;
+}
+
+int16_t uart_read(uint8_t port) {
+  mcu_enter(SEAR_CALL_uart_read);
+  struct mcu_uart *u = port_of(port, "uart_read");
+  if (!u->rx_count) return -1;
+  const uint8_t byte = u->rx[u->rx_head];
+  u->rx_head = (uint8_t)((u->rx_head + 1) % HAL_UART_BUFFER);
+  u->rx_count--;
+  return byte;
+}

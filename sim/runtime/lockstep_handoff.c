@@ -1,0 +1,66 @@
+/* Spin-then-sleep hand-off of the lockstep turn (see lockstep_handoff.h). */
+#define _GNU_SOURCE
+#include "runtime/lockstep_handoff.h"
+
+#include <errno.h>
+#include <linux/futex.h>
+#include <sched.h>
+#include <sys/syscall.h>
+#include <time.h>
+#include <unistd.h>
+
+static int64_t monotonic_ns(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+static void cpu_relax(void) {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
+/* Not FUTEX_PRIVATE: the word lives in memory shared between two processes. */
+static long futex(uint32_t *word, int op, uint32_t value, const struct timespec *timeout) {
+  return syscall(SYS_futex, word, op, value, timeout, NULL, 0);
+}
+
+void sear_handoff_give(uint32_t *turn, uint32_t value, uint32_t *peer_waiting) {
+  __atomic_store_n(turn, value, __ATOMIC_SEQ_CST);
+  /* Sequentially consistent on both sides: either the peer sees the new turn before sleeping,
+   * or we see its waiting flag here and wake it. */
+  if (__atomic_load_n(peer_waiting, __ATOMIC_SEQ_CST)) futex(turn, FUTEX_WAKE, 1, NULL);
+}
+
+int sear_handoff_wait(uint32_t *turn, uint32_t value, uint32_t *self_waiting, int64_t spin_ns,
+                      int64_t timeout_ns) {
+  if (__atomic_load_n(turn, __ATOMIC_ACQUIRE) == value) return 1;
+  const int64_t start = monotonic_ns();
+  /* A few microseconds of pure spinning catch a peer running on the other core; after that,
+   * yielding lets a peer that shares this core (a busy host, more MCUs than cores) run. */
+  for (unsigned i = 1;; ++i) {
+    if (__atomic_load_n(turn, __ATOMIC_ACQUIRE) == value) return 1;
+    if (i < 4096) {
+      cpu_relax();
+      continue;
+    }
+    sched_yield();
+    if ((i & 15) == 0 && monotonic_ns() - start > spin_ns) break;
+  }
+  for (;;) {
+    const uint32_t seen = __atomic_load_n(turn, __ATOMIC_SEQ_CST);
+    if (seen == value) return 1;
+    int64_t left = 0;
+    if (timeout_ns >= 0) {
+      left = timeout_ns - (monotonic_ns() - start);
+      if (left <= 0) return 0;
+    }
+    __atomic_store_n(self_waiting, 1, __ATOMIC_SEQ_CST);
+    if (__atomic_load_n(turn, __ATOMIC_SEQ_CST) == seen) {
+      struct timespec ts = {(time_t)(left / 1000000000), (long)(left % 1000000000)};
+      futex(turn, FUTEX_WAIT, seen, timeout_ns >= 0 ? &ts : NULL);
+    }
+    __atomic_store_n(self_waiting, 0, __ATOMIC_SEQ_CST);
+  }
+}

@@ -1,0 +1,133 @@
+/* The shared-memory page between the simulator and one MCU's firmware process: the wiring the
+ * firmware's HAL needs, the lockstep hand-off, the sensor samples for the coming quantum, and the
+ * time-stamped events the firmware produced. Plain C so that both sides include the one layout. */
+#ifndef SEAR_LOCKSTEP_LINK_H
+#define SEAR_LOCKSTEP_LINK_H
+
+#include <stdint.h>
+
+#define SEAR_LINK_MAGIC 0x52414553u /* "SEAR" little-endian */
+#define SEAR_LINK_VERSION 1u
+/* The simulator passes the page to the firmware as an inherited file descriptor named here. */
+#define SEAR_LINK_FD_ENV "SEAR_LINK_FD"
+
+#define SEAR_LINK_PINS 70
+#define SEAR_LINK_ADC_CHANNELS 16
+#define SEAR_LINK_UARTS 4
+#define SEAR_LINK_MAX_INPUTS 32
+#define SEAR_LINK_MAX_SAMPLES 256
+#define SEAR_LINK_MAX_RX 256
+#define SEAR_LINK_MAX_EVENTS 2048
+
+/* Every HAL entry point, so a report can name the last one a firmware called. */
+#define SEAR_HAL_CALLS(X)                                                                            \
+  X(none) X(hal_init) X(millis) X(micros) X(delay_ms) X(delay_us) X(pin_mode) X(digital_read)        \
+  X(digital_write) X(digital_toggle) X(adc_reference) X(adc_resolution) X(adc_read) X(pwm_write)     \
+  X(servo_write_us) X(uart_begin) X(uart_available) X(uart_read) X(uart_write) X(uart_print)         \
+  X(uart_flush) X(spi_begin) X(spi_transfer) X(i2c_begin) X(i2c_write) X(i2c_read) X(i2c_write_reg) \
+  X(i2c_read_regs) X(irq_attach_pin) X(irq_detach_pin) X(irq_timer_start) X(irq_timer_stop)         \
+  X(irq_attach_uart_rx) X(irq_disable) X(irq_enable)
+
+#define SEAR_CALL_ENUM(name) SEAR_CALL_##name,
+enum sear_call { SEAR_HAL_CALLS(SEAR_CALL_ENUM) SEAR_CALL_COUNT };
+#undef SEAR_CALL_ENUM
+
+/* Whose turn it is; the word the hand-off spins and sleeps on. */
+enum sear_turn { SEAR_TURN_SIM = 0, SEAR_TURN_FIRMWARE = 1 };
+
+/* Why the firmware handed the turn back. */
+enum sear_request {
+  SEAR_REQUEST_QUANTUM_DONE = 0, /* its clock reached quantum_end_ns */
+  SEAR_REQUEST_DRAIN = 1,        /* its event queue is full: empty it, same quantum */
+  SEAR_REQUEST_EXIT = 2,         /* main() returned or exit() was called */
+  SEAR_REQUEST_FATAL = 3         /* the HAL refused a call; `fatal` says why */
+};
+
+/* What a wired input is; its samples are physical truth, the device model runs in the firmware. */
+enum sear_input_kind {
+  SEAR_INPUT_GP2D12 = 1, /* analog ranger on an ADC channel; samples are distances in metres */
+  SEAR_INPUT_GP2D15 = 2, /* digital ranger on a pin; samples are distances in metres */
+  SEAR_INPUT_SWITCH = 3  /* a contact to ground on a pin; samples are 1 (closed) or 0 (open) */
+};
+
+struct sear_link_input {
+  uint32_t kind;   /* enum sear_input_kind */
+  uint32_t target; /* ADC channel or pin */
+  uint64_t seed;   /* for the device's noise */
+  double noise_sd; /* volts (GP2D12) */
+  double switch_distance_m;
+  double hysteresis_m;
+};
+
+struct sear_link_sample {
+  int64_t time_ns;
+  uint64_t index; /* the device's measurement number, for its noise */
+  uint32_t input; /* into inputs[] */
+  uint32_t reserved;
+  double value;
+};
+
+struct sear_link_rx {
+  int64_t time_ns; /* when the stop bit ends */
+  uint8_t port;
+  uint8_t byte;
+  uint8_t reserved[6];
+};
+
+enum sear_event_kind {
+  SEAR_EVENT_PIN = 1,        /* index = pin, value = level driven (0/1) */
+  SEAR_EVENT_PIN_MODE = 2,   /* index = pin, value = INPUT/OUTPUT/INPUT_PULLUP */
+  SEAR_EVENT_PWM = 3,        /* index = pin, value = duty 0..255 */
+  SEAR_EVENT_SERVO = 4,      /* index = pin, value = pulse in microseconds, 0 = off */
+  SEAR_EVENT_UART_BEGIN = 5, /* index = port, value = baud */
+  SEAR_EVENT_UART_TX = 6,    /* index = port, value = byte; time = end of its stop bit */
+  SEAR_EVENT_UART_RX = 7     /* index = port, value = byte; time = end of its stop bit */
+};
+
+struct sear_event {
+  int64_t time_ns;
+  uint32_t value;
+  uint8_t kind;
+  uint8_t index;
+  uint8_t reserved[2];
+};
+
+struct sear_link {
+  uint32_t magic;
+  uint32_t version;
+
+  /* Set once by the simulator before the firmware starts. */
+  int64_t hal_call_cost_ns;
+  double avcc_v;
+  double aref_v;
+  uint32_t input_count;
+  uint32_t uart_loopback_mask; /* bit n: port n's TX is wired to its own RX */
+  struct sear_link_input inputs[SEAR_LINK_MAX_INPUTS];
+
+  /* The hand-off. Accessed only with __atomic builtins. */
+  uint32_t turn;
+  uint32_t sim_waiting;
+  uint32_t firmware_waiting;
+  uint32_t request; /* enum sear_request, written by the firmware before it hands back */
+
+  /* Written by the simulator before it hands the turn to the firmware. */
+  int64_t quantum_end_ns;
+  uint32_t sample_count;
+  uint32_t rx_count;
+  struct sear_link_sample samples[SEAR_LINK_MAX_SAMPLES]; /* in time order */
+  struct sear_link_rx rx[SEAR_LINK_MAX_RX];               /* in time order */
+
+  /* Written by the firmware on every HAL call, read by the simulator for reports. */
+  int64_t clock_ns;
+  uint64_t calls;
+  uint32_t last_call; /* enum sear_call */
+  int32_t exit_code;
+  char fatal[192];
+
+  /* Written by the firmware during its quantum, emptied by the simulator at its turn. */
+  uint32_t event_count;
+  uint32_t reserved;
+  struct sear_event events[SEAR_LINK_MAX_EVENTS];
+};
+
+#endif

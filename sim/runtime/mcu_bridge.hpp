@@ -1,0 +1,64 @@
+// Connects one MCU's firmware to its robot: measures the wired sensors for each quantum and turns
+// the firmware's pin, PWM and servo outputs into motor and servo commands.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "physics/vehicle.hpp"
+#include "runtime/mcu_process.hpp"
+#include "scene/description.hpp"
+#include "sensors/range_sensor.hpp"
+
+namespace sear {
+
+// Receives everything a firmware did on its pins and ports, in time order per MCU.
+class McuListener {
+ public:
+  virtual ~McuListener() = default;
+  virtual void on_event(std::size_t mcu, const sear_event& event) = 0;
+};
+
+class McuBridge {
+ public:
+  // `desc.firmware_executable` must name the built firmware. `id` is "robot.mcu".
+  McuBridge(const McuDesc& desc, std::string id, Vehicle& vehicle, std::uint64_t seed,
+            const std::string& host_log, double hang_timeout_s);
+
+  const std::string& id() const { return id_; }
+  const McuDesc& desc() const { return desc_; }
+
+  // Measures the sensors as the world is now, at t0, and hands the firmware [t0, t1).
+  void begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std::int64_t t1);
+  // Waits for the firmware to finish its quantum, passing its events on; then commands the
+  // robot's actuators. False once the firmware has stopped: see failure().
+  bool finish_quantum(std::size_t index, McuListener& listener);
+  const std::optional<McuFailure>& failure() const { return process_->failure(); }
+  // A stopped MCU drives nothing: its motors coast and its servos get no pulses.
+  void release_actuators();
+
+ private:
+  static void setup_link(sear_link& link, const void* self);
+  void add_sample(std::int64_t time_ns, std::uint64_t index, std::uint32_t input, double value);
+  void drain(std::size_t index, McuListener& listener);
+  void command_actuators();
+
+  McuDesc desc_;
+  std::string id_;
+  Vehicle& vehicle_;
+  std::uint64_t seed_;
+  std::vector<RangeSensor> rangers_;             // desc_.rangers, in order
+  std::vector<std::vector<RangeSensor>> bumps_;  // one ray per few centimetres of each lever
+  std::vector<std::int64_t> ranger_period_ns_;
+  std::unique_ptr<McuProcess> process_;
+  // What the firmware drives on each pin: 0..255 (LOW, PWM duty, HIGH); inputs drive nothing.
+  std::array<int, SEAR_LINK_PINS> pin_drive_{};
+  std::array<bool, SEAR_LINK_PINS> pin_output_{};
+  std::array<int, SEAR_LINK_PINS> servo_pulse_us_{};
+};
+
+}  // namespace sear

@@ -1,0 +1,209 @@
+// Reads a robot's <mcu> elements: the firmware to run, the chip's clock and supply, and the wiring
+// of its sensors and actuators to ADC channels, pins and UART ports; then cross-checks the wiring.
+#include <fmt/format.h>
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+
+#include "scene/loader_parts.hpp"
+#include "scene/nearest_name.hpp"
+
+namespace sear {
+namespace {
+
+// The reference board, an Arduino Mega 2560: pins 0..69, ADC channels 0..15, UARTs 0..3.
+const Range kPin = Range::between(0, 69, "0..69 (the Mega 2560's pins; A0..A15 are 54..69)");
+const Range kAdcChannel = Range::between(0, 15, "0..15");
+const Range kUartPort = Range::between(0, 3, "0..3");
+
+int read_index(ElementReader& r, const char* attribute, const Range& range, bool required) {
+  const auto v = required ? r.required_number(attribute, range) : std::optional<double>(r.number(attribute, -1, Range::any()));
+  if (!v || *v < 0) return -1;
+  if (!range.contains(*v) || *v != static_cast<int>(*v)) {
+    r.error(fmt::format("<{}> '{}' must be a whole number in {}", r.name(), attribute, range.text));
+    return -1;
+  }
+  return static_cast<int>(*v);
+}
+
+void read_mount(ElementReader& r, Eigen::Vector3d& position, double& yaw) {
+  position = r.vec3("pos", position);
+  yaw = r.number("yaw_deg", 0.0, Range::between(-360, 360, "-360..360 degrees"), "deg") * kDegToRad;
+}
+
+IrRangerDesc read_ranger(ElementReader& r, IrRangerDesc::Model model) {
+  IrRangerDesc s;
+  s.model = model;
+  s.source = {r.file(), r.line()};
+  s.name = r.required_text("name").value_or("");
+  check_name(r, s.name);
+  read_mount(r, s.position_m, s.yaw_rad);
+  s.pitch_rad = r.number("pitch_deg", 0.0, Range::between(-90, 90, "-90..90 degrees"), "deg") * kDegToRad;
+  // Sharp's rangers see a spot a few centimetres wide at their far end: a narrow cone.
+  s.half_angle_rad = r.number("half_angle_deg", 2.0, Range::between(0, 45, "0..45 degrees"), "deg") * kDegToRad;
+  s.resolution_rad = r.number("resolution_deg", 1.0, Range{0, 45, true, "> 0 and <= 45 degrees"}, "deg") * kDegToRad;
+  s.max_range_m = r.number("max_range", 1.5, Range{0, 100, true, "> 0 and <= 100 m"}, "m");
+  if (model == IrRangerDesc::Model::Gp2d12) {
+    s.adc_channel = read_index(r, "adc", kAdcChannel, true);
+    s.noise_sd_v = r.number("noise_v", 0.01, Range::between(0, 1, "0..1 V"), "V");
+  } else {
+    s.pin = read_index(r, "pin", kPin, true);
+    // The GP2D15's datasheet gives 24 cm typical, 21..27 cm from unit to unit.
+    s.switch_distance_m = r.number("switch_distance", 0.24, Range::between(0.21, 0.27, "0.21..0.27 m"), "m");
+    s.hysteresis_m = r.number("hysteresis", s.hysteresis_m, Range::between(0, 0.1, "0..0.1 m"), "m");
+  }
+  r.finish();
+  return s;
+}
+
+BumpSwitchDesc read_bump(ElementReader& r) {
+  BumpSwitchDesc b;
+  b.source = {r.file(), r.line()};
+  b.name = r.required_text("name").value_or("");
+  check_name(r, b.name);
+  read_mount(r, b.position_m, b.yaw_rad);
+  b.pin = read_index(r, "pin", kPin, true);
+  b.width_m = r.number("width", b.width_m, Range::between(0, 2, "0..2 m"), "m");
+  b.reach_m = r.number("reach", b.reach_m, Range{0, 0.2, true, "> 0 and <= 0.2 m"}, "m");
+  r.finish();
+  return b;
+}
+
+MotorWiring read_motor_wiring(ElementReader& r) {
+  MotorWiring m;
+  m.source = {r.file(), r.line()};
+  m.motor = r.required_text("name").value_or("");
+  m.pwm_pin = read_index(r, "pwm", kPin, true);
+  m.dir_pin = read_index(r, "dir", kPin, true);
+  m.brake_pin = read_index(r, "brake", kPin, false);
+  m.reversed = r.choice("reversed", {"false", "true"}, 0) == 1;
+  r.finish();
+  return m;
+}
+
+void read_firmware(ElementReader& r, McuDesc& mcu) {
+  const bool has_exe = r.has("executable");
+  const bool has_src = r.has("sources");
+  if (has_exe == has_src) {
+    r.error("<firmware> needs either 'executable' (a built firmware) or 'sources' (C files to compile)");
+  } else if (has_exe) {
+    mcu.firmware_executable = path_beside(r.file(), r.text("executable", ""));
+    if (!std::filesystem::exists(mcu.firmware_executable))
+      r.error(fmt::format("firmware executable '{}' not found (looked for {})", r.text("executable", ""),
+                          mcu.firmware_executable));
+  } else {
+    for (const auto& source : r.names("sources")) {
+      const std::string path = path_beside(r.file(), source);
+      if (!std::filesystem::exists(path))
+        r.error(fmt::format("firmware source '{}' not found (looked for {})", source, path));
+      mcu.firmware_sources.push_back(std::filesystem::absolute(path).lexically_normal().string());
+    }
+    if (mcu.firmware_sources.empty()) r.error("<firmware> 'sources' names no files");
+  }
+  r.finish();
+}
+
+}  // namespace
+
+void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics, McuDesc& mcu) {
+  ElementReader r(&element, file, diagnostics);
+  mcu.source = {file, r.line()};
+  mcu.name = r.required_text("name").value_or("");
+  check_name(r, mcu.name);
+  mcu.clock_hz = r.number("clock_hz", mcu.clock_hz, Range::between(1e3, 1e9, "1e3..1e9 Hz"), "Hz");
+  mcu.hal_call_cycles = r.number("hal_call_cycles", mcu.hal_call_cycles, Range::between(0, 1e6, "0..1e6"));
+  mcu.avcc_v = r.number("avcc", mcu.avcc_v, Range::between(1.8, 5.5, "1.8..5.5 V"), "V");
+  mcu.aref_v = r.number("aref", mcu.aref_v, Range::between(1.0, 5.5, "1.0..5.5 V"), "V");
+  mcu.console_uart = read_index(r, "console_uart", kUartPort, false);
+  if (!r.has("console_uart")) mcu.console_uart = 0;
+  check_at_most_one(element, file, diagnostics, {"firmware"});
+  if (!element.FirstChildElement("firmware")) r.error("<mcu> needs a <firmware> naming its executable or sources");
+  r.children({"firmware", "gp2d12", "gp2d15", "bump", "motor", "servo", "uart"},
+             [&](const tinyxml2::XMLElement& child) {
+               ElementReader c(&child, file, diagnostics);
+               const std::string kind = child.Name();
+               if (kind == "firmware") read_firmware(c, mcu);
+               else if (kind == "gp2d12") mcu.rangers.push_back(read_ranger(c, IrRangerDesc::Model::Gp2d12));
+               else if (kind == "gp2d15") mcu.rangers.push_back(read_ranger(c, IrRangerDesc::Model::Gp2d15));
+               else if (kind == "bump") mcu.bumps.push_back(read_bump(c));
+               else if (kind == "motor") mcu.motors.push_back(read_motor_wiring(c));
+               else if (kind == "servo") {
+                 ServoWiring s;
+                 s.source = {file, c.line()};
+                 s.servo = c.required_text("name").value_or("");
+                 s.pin = read_index(c, "pin", kPin, true);
+                 c.finish();
+                 mcu.servos.push_back(s);
+               } else {
+                 UartDesc u;
+                 u.source = {file, c.line()};
+                 u.port = read_index(c, "port", kUartPort, true);
+                 u.loopback = c.choice("loopback", {"false", "true"}, 0) == 1;
+                 c.finish();
+                 mcu.uarts.push_back(u);
+               }
+             });
+  r.finish();
+}
+
+void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics) {
+  const auto fail = [&](const SourceRef& at, const std::string& message) {
+    diagnostics.error(at.file, at.line, fmt::format("robot '{}': {}", robot.name, message));
+  };
+  std::vector<std::string> motor_names, servo_names, mcu_names;
+  for (const auto& m : robot.motors) motor_names.push_back(m.name);
+  for (const auto& s : robot.servos) servo_names.push_back(s.name);
+  std::map<std::string, std::string> actuator_owner;  // one MCU (or the script) drives each actuator
+  for (const auto& cmd : robot.script) actuator_owner.emplace(cmd.actuator, "the robot's <script>");
+
+  for (const auto& mcu : robot.mcus) {
+    if (std::find(mcu_names.begin(), mcu_names.end(), mcu.name) != mcu_names.end())
+      fail(mcu.source, fmt::format("mcu name '{}' is used twice", mcu.name));
+    mcu_names.push_back(mcu.name);
+    std::map<int, std::string> pin_use, channel_use, port_use;
+    std::vector<std::string> part_names;
+    const auto part = [&](const SourceRef& at, const std::string& name) {
+      if (std::find(part_names.begin(), part_names.end(), name) != part_names.end())
+        fail(at, fmt::format("mcu '{}' has two parts named '{}'", mcu.name, name));
+      part_names.push_back(name);
+    };
+    const auto use = [&](std::map<int, std::string>& table, const char* what, int index, const SourceRef& at,
+                         const std::string& user) {
+      if (index < 0) return;
+      const auto [it, fresh] = table.emplace(index, user);
+      if (!fresh) fail(at, fmt::format("mcu '{}': {} {} is wired to both '{}' and '{}'", mcu.name, what, index, it->second, user));
+    };
+    for (const auto& s : mcu.rangers) {
+      part(s.source, s.name);
+      use(channel_use, "ADC channel", s.adc_channel, s.source, s.name);
+      use(pin_use, "pin", s.pin, s.source, s.name);
+    }
+    for (const auto& b : mcu.bumps) {
+      part(b.source, b.name);
+      use(pin_use, "pin", b.pin, b.source, b.name);
+    }
+    const auto own = [&](const SourceRef& at, const std::string& actuator) {
+      const auto [it, fresh] = actuator_owner.emplace(actuator, "mcu '" + mcu.name + "'");
+      if (!fresh) fail(at, fmt::format("'{}' is driven by both {} and mcu '{}'", actuator, it->second, mcu.name));
+    };
+    for (const auto& m : mcu.motors) {
+      if (std::find(motor_names.begin(), motor_names.end(), m.motor) == motor_names.end())
+        fail(m.source, fmt::format("mcu '{}' wires unknown motor '{}'{}", mcu.name, m.motor, did_you_mean(m.motor, motor_names)));
+      own(m.source, m.motor);
+      use(pin_use, "pin", m.pwm_pin, m.source, "motor " + m.motor + " pwm");
+      use(pin_use, "pin", m.dir_pin, m.source, "motor " + m.motor + " dir");
+      use(pin_use, "pin", m.brake_pin, m.source, "motor " + m.motor + " brake");
+    }
+    for (const auto& s : mcu.servos) {
+      if (std::find(servo_names.begin(), servo_names.end(), s.servo) == servo_names.end())
+        fail(s.source, fmt::format("mcu '{}' wires unknown servo '{}'{}", mcu.name, s.servo, did_you_mean(s.servo, servo_names)));
+      own(s.source, s.servo);
+      use(pin_use, "pin", s.pin, s.source, "servo " + s.servo);
+    }
+    for (const auto& u : mcu.uarts) use(port_use, "UART port", u.port, u.source, "a <uart>");
+  }
+}
+
+}  // namespace sear

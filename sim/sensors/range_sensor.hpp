@@ -1,0 +1,99 @@
+// Range sensing against the one ODE world: a single ray, or the nested-cone bundle SEAR uses for
+// sensors with a beam width (IR rangers, sonar). It reports the true distance; device models decide
+// what the sensor outputs for it. Frames: robot x forward, y left, z up; world x east, y north, z up.
+#pragma once
+
+#include <ode/ode.h>
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "physics/physics_world.hpp"
+#include "scene/description.hpp"
+
+namespace sear {
+
+// Where a beam is mounted and how wide it is. Mounted on a body (a robot's chassis) the pose is in
+// that body's frame; with no body the same numbers place the sensor in the world frame.
+struct RangeBeam {
+  Eigen::Vector3d position_m{0, 0, 0};  // where the rays start
+  double yaw_rad = 0;                   // counter-clockwise about z from x
+  // About the yawed y axis: positive tilts the beam down, as in the Z-Y-X angles of VehicleState.
+  double pitch_rad = 0;
+  double half_angle_rad = 0;  // alpha, the beam's half-width; 0: a single ray
+  // delta: neighbouring rays are at most this far apart, so every direction in the beam lies
+  // within about 0.7 delta of a ray.
+  double resolution_rad = 1.0 * kDegToRad;
+  double min_range_m = 0;  // closer hits are still reported, flagged below_min
+  double max_range_m = 1;
+};
+
+struct RangeReading {
+  bool hit = false;  // a surface lies within [0, max_range_m] along some ray
+  // Hit closer than min_range_m. distance_m is still the true distance: what a device outputs there
+  // is the device model's business (a Sharp GP2D12's voltage falls again below 10 cm).
+  bool below_min = false;
+  double distance_m = 0;             // along the ray that hit closest; max_range_m when nothing is hit
+  Eigen::Vector3d point_m{0, 0, 0};  // world frame, the closest hit; meaningless without one
+  int entity = -1;                   // what was hit (PhysicsWorld::entity_names()), -1 the terrain
+};
+
+// The rays of one beam and a reusable ODE ray to cast them with. The rays are the beam axis, then
+// cones of half-angle alpha, alpha - delta, alpha - 2 delta, ... while above zero, each carrying
+// rays_on_cone() rays evenly spaced around it starting from its left-most (mount +y side) ray.
+// The closest hit over all rays wins: a narrow pole anywhere in the beam is seen, as a real ranger
+// with a wide beam sees it, where the axis ray alone would pass it by.
+//
+// A ray sees every tagged geom in the world's static and dynamic spaces from either side (no
+// backface culling: meshes whose winding is inconsistent still block it), except those of
+// `ignore_entity`, the robot carrying the sensor. A ray that starts inside a box or sphere reports
+// where it leaves it, as ODE does. measure() reuses scratch memory and the world's
+// collision data: call it from the thread that steps the world, one call at a time per sensor.
+class RangeSensor {
+ public:
+  // Throws std::invalid_argument for a half-angle outside [0, 90) degrees, a resolution <= 0,
+  // ranges out of order, or more than kMaxRays rays.
+  explicit RangeSensor(const RangeBeam& beam);
+
+  static constexpr std::size_t kMaxRays = 100000;  // a typo in a resolution should not stall a run
+
+  // Rays on a cone of half-angle theta: the fewest, but at least 3, such that neighbouring rays are
+  // at most delta apart, max(3, ceil(pi / asin(sin(delta / 2) / sin(theta)))). For small angles
+  // that is about 2 pi theta / delta; where sin(theta) <= sin(delta / 2) it is 3.
+  static int rays_on_cone(double theta_rad, double resolution_rad);
+
+  const RangeBeam& beam() const { return beam_; }
+  // Unit ray directions in the mount frame (yaw and pitch applied); the first is the beam axis.
+  const std::vector<Eigen::Vector3d>& directions() const { return directions_; }
+
+  // The beam mounted on `mount_body` (its frame is the robot frame), or placed in the world when
+  // that is nullptr. `ignore_entity` is the robot's own entity; a negative one ignores nothing
+  // (the terrain, entity -1, is always seen).
+  RangeReading measure(const PhysicsWorld& physics, dBodyID mount_body, int ignore_entity) const;
+  // The same with the mount's pose in the world given directly (a sensor on a pan servo).
+  RangeReading measure(const PhysicsWorld& physics, const Eigen::Vector3d& mount_position_m,
+                       const Eigen::Matrix3d& mount_rotation, int ignore_entity) const;
+
+ private:
+  struct Candidate {
+    dGeomID geom;
+    int entity;
+    double aabb[6];  // ODE's order: min x, max x, min y, max y, min z, max z
+  };
+  struct RayDeleter {
+    void operator()(dGeomID ray) const;
+  };
+
+  void gather(dSpaceID space, const double bounds[6], int ignore_entity) const;
+
+  RangeBeam beam_;
+  std::vector<Eigen::Vector3d> directions_;
+  // Created on first use, when a PhysicsWorld exists and so ODE is initialised; in no space.
+  mutable std::unique_ptr<dxGeom, RayDeleter> ray_;
+  mutable std::vector<Eigen::Vector3d> world_directions_;  // per call, sized once
+  mutable std::vector<Candidate> candidates_;              // geoms near the beam, per call
+};
+
+}  // namespace sear

@@ -1,0 +1,139 @@
+// Lockstep semantics seen from firmware written for the tests: exact edge times, a timer that fires
+// exactly 1000 times a second, busy-waits that end, UART bytes spaced by the baud rate, and two
+// copies of one firmware that keep their own globals.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <regex>
+
+#include "firmware_run.hpp"
+
+namespace sear::test {
+namespace {
+
+// Edge times per VCD identifier, after each pin's first value (the level it starts at).
+std::map<char, std::vector<std::int64_t>> vcd_edges(const std::string& vcd) {
+  std::map<char, std::vector<std::int64_t>> edges;
+  std::map<char, char> level;
+  std::int64_t t = 0;
+  bool dumping = false;
+  for (const auto& line : lines_of(vcd)) {
+    if (line == "$enddefinitions $end") dumping = true;
+    if (!dumping || line.empty() || line[0] == '$') continue;
+    if (line[0] == '#') {
+      t = std::stoll(line.substr(1));
+    } else if (line.size() == 2) {
+      const char id = line[1], value = line[0];
+      if (level.count(id) && level[id] != 'z' && value != 'z' && level[id] != value) edges[id].push_back(t);
+      level[id] = value;
+    }
+  }
+  return edges;
+}
+
+const char kPin12 = '!' + 12;
+const char kPin13 = '!' + 13;
+
+TEST(Lockstep, EdgesFromDelaysAndTimerInterruptsFallOnExactMultiplesOf10ms) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(std::string(R"(    <mcu name="timer" hal_call_cycles="0">
+      <firmware executable=")") + TIMER_PROBE + R"("/>
+    </mcu>
+)", "", 2.05));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto edges = vcd_edges(run.file("rover.timer.pins.vcd"));
+  for (const char pin : {kPin12, kPin13}) {
+    ASSERT_TRUE(edges.count(pin)) << "pin " << int(pin - '!');
+    const auto& e = edges.at(pin);
+    // 2.05 s of 10 ms half-periods; the run stops just before the edge at 2.050 s.
+    ASSERT_EQ(e.size(), 204u) << "pin " << int(pin - '!');
+    for (std::size_t k = 0; k < e.size(); ++k) EXPECT_EQ(e[k], static_cast<std::int64_t>(k + 1) * 10'000'000);
+  }
+}
+
+TEST(Lockstep, A1kHzTimerFiresExactly1000TimesPerSimulatedSecond) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(std::string(R"(    <mcu name="timer" hal_call_cycles="0">
+      <firmware executable=")") + TIMER_PROBE + R"("/>
+    </mcu>
+)", "", 3.05));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string console = run.file("rover.timer.console.log");
+  // Counted at each whole second, after the tick due at that very moment; the console stamps a
+  // line when its last byte has left the wire, 11 bytes at 115200 baud later.
+  const double line_s = 11 * 10 / 115200.0;
+  for (int s = 1; s <= 3; ++s) {
+    char expected[64];
+    std::snprintf(expected, sizeof expected, "%d.%09.0f ticks %d\n", s, line_s * 1e9, 1000 * s);
+    EXPECT_NE(console.find(expected), std::string::npos) << "no '" << expected << "' in\n" << console;
+  }
+}
+
+class SerialProbe : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir;
+    const std::string mcu = std::string(R"(      <firmware executable=")") + SERIAL_PROBE + R"("/>
+      <uart port="1" loopback="true"/>
+)";
+    run_ = new SearRun(run_sear(*dir_, rover_project("    <mcu name=\"a\">\n" + mcu + "    </mcu>\n    <mcu name=\"b\">\n" +
+                                                     mcu + "    </mcu>\n")));
+  }
+  static void TearDownTestSuite() {
+    delete run_;
+    delete dir_;
+  }
+  static TempDir* dir_;
+  static SearRun* run_;
+};
+TempDir* SerialProbe::dir_ = nullptr;
+SearRun* SerialProbe::run_ = nullptr;
+
+TEST_F(SerialProbe, ABusyWaitOnTheMillisecondClockEnds) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->err;
+  std::smatch m;
+  const std::string console = run_->file("rover.a.console.log");
+  ASSERT_TRUE(std::regex_search(console, m, std::regex("busy-wait ended at (\\d+) us"))) << console;
+  // Each millis() costs 50 cycles at 16 MHz, 3.125 us: the loop ends within a few calls of 250 ms.
+  EXPECT_GE(std::stol(m[1]), 250000);
+  EXPECT_LE(std::stol(m[1]), 250010);
+}
+
+TEST_F(SerialProbe, BytesAt9600BaudAre1Point0417msApartAndArriveOnTheLoopedBackRx) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->err;
+  std::vector<double> tx, rx;
+  for (const auto& line : lines_of(run_->file("rover.a.uart1.log"))) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream in(line);
+    std::string t, dir, byte;
+    in >> t >> dir >> byte;
+    if (dir == "tx") tx.push_back(std::stod(t));
+    if (dir == "rx") rx.push_back(std::stod(t));
+  }
+  ASSERT_EQ(tx.size(), 5u);
+  EXPECT_EQ(tx, rx);
+  // 10 bits (start, 8 data, stop) at 9600 baud = 1.041667 ms, to the nanosecond.
+  for (std::size_t i = 1; i < tx.size(); ++i) EXPECT_NEAR(tx[i] - tx[i - 1], 10.0 / 9600, 1.5e-9);
+  EXPECT_EQ(run_->file("rover.a.uart1.tx.bin"), "HELLO");
+  EXPECT_EQ(run_->file("rover.a.uart1.rx.bin"), "HELLO");
+  EXPECT_NE(run_->file("rover.a.console.log").find("rx 5: HELLO"), std::string::npos);
+}
+
+TEST_F(SerialProbe, TwoMcusRunningOneFirmwareKeepTheirOwnGlobals) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->err;
+  for (const char* mcu : {"rover.a.console.log", "rover.b.console.log"}) {
+    std::vector<int> counts;
+    std::smatch m;
+    for (const auto& line : lines_of(run_->file(mcu)))
+      if (std::regex_search(line, m, std::regex(" count (\\d+)$"))) counts.push_back(std::stoi(m[1]));
+    // One global shared by both would advance twice per 100 ms.
+    ASSERT_GE(counts.size(), 6u) << mcu;
+    for (std::size_t i = 0; i < counts.size(); ++i) EXPECT_EQ(counts[i], static_cast<int>(i) + 1) << mcu;
+  }
+  EXPECT_EQ(run_->file("rover.a.console.log"), run_->file("rover.b.console.log"));
+}
+
+}  // namespace
+}  // namespace sear::test

@@ -1,0 +1,104 @@
+// Mistakes in a robot's <mcu> wiring are reported with the file, the line and what was expected,
+// all of them at once: unknown motors, pins and channels used twice or out of range, missing
+// firmware, and actuators that both a script and an MCU would drive.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "scene/project_loader.hpp"
+#include "temp_dir.hpp"
+
+namespace sear {
+namespace {
+
+using sear::test::TempDir;
+
+// A rover with one MCU; `mcu_body` is the inside of its <mcu> element.
+std::string project_with(const std::string& mcu_body, const std::string& script = "") {
+  return std::string("<project name=\"wiring\">\n  <world step=\"0.001\"/>\n  <robot file=\"") + SEAR_ASSET_DIR +
+         "/robots/rover.xml\">\n" + script + "    <mcu name=\"main\">\n" + mcu_body + "    </mcu>\n  </robot>\n</project>\n";
+}
+
+const std::string kFirmware = "      <firmware sources=\"main.c\"/>\n";
+
+struct Loaded {
+  std::string path;
+  Diagnostics diagnostics;
+  std::optional<ProjectDesc> project;
+};
+
+Loaded load(const TempDir& dir, const std::string& xml) {
+  dir.write("main.c", "int main(void) { return 0; }\n");
+  Loaded out;
+  out.path = dir.write("project.xml", xml);
+  out.project = load_project(out.path, out.diagnostics);
+  return out;
+}
+
+// Some diagnostic is on `line` of the project and says every one of `parts`.
+::testing::AssertionResult says(const Loaded& l, int line, std::initializer_list<const char*> parts) {
+  for (const auto& d : l.diagnostics.all()) {
+    if (d.line == line && d.file == l.path &&
+        std::all_of(parts.begin(), parts.end(), [&](const char* p) { return d.message.find(p) != std::string::npos; }))
+      return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << "nothing on line " << line << " says that; got:\n" << l.diagnostics.joined();
+}
+
+TEST(McuWiringErrors, AValidMcuLoads) {
+  TempDir dir;
+  const Loaded l = load(dir, project_with(kFirmware + R"(      <gp2d12 name="ir" adc="0" pos="0.15 0 0.02"/>
+      <bump name="bumper" pin="2" pos="0.14 0 0"/>
+      <motor name="left" pwm="3" dir="12" brake="9"/>
+      <uart port="1" loopback="true"/>
+)"));
+  ASSERT_TRUE(l.diagnostics.ok()) << l.diagnostics.joined();
+  const McuDesc& mcu = l.project->robots[0].mcus[0];
+  EXPECT_EQ(mcu.firmware_sources.size(), 1u);
+  EXPECT_DOUBLE_EQ(mcu.clock_hz, 16e6);
+  EXPECT_EQ(mcu.rangers[0].adc_channel, 0);
+  EXPECT_TRUE(mcu.uarts[0].loopback);
+}
+
+TEST(McuWiringErrors, EveryWiringMistakeIsReportedWhereItIs) {
+  TempDir dir;
+  const Loaded l = load(dir, project_with(kFirmware + R"(      <gp2d12 name="ir" adc="16" pos="0.15 0 0.02"/>
+      <gp2d15 name="front" pin="22" switch_distance="0.3"/>
+      <bump name="bumper" pin="22"/>
+      <motor name="lfet" pwm="3" dir="12"/>
+      <motor name="right" pwm="70" dir="13"/>
+      <servo name="steer" pin="11"/>
+      <uart port="1"/>
+      <uart port="1"/>
+      <laser name="x"/>
+)"));
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(says(l, 6, {"'adc'", "0..15"}));
+  EXPECT_TRUE(says(l, 7, {"switch_distance", "0.21..0.27 m"}));
+  EXPECT_TRUE(says(l, 8, {"pin 22 is wired to both 'front' and 'bumper'"}));
+  EXPECT_TRUE(says(l, 9, {"unknown motor 'lfet'", "did you mean 'left'"}));
+  EXPECT_TRUE(says(l, 10, {"'pwm'", "0..69"}));
+  EXPECT_TRUE(says(l, 11, {"unknown servo 'steer'"}));
+  EXPECT_TRUE(says(l, 13, {"UART port 1 is wired to both"}));
+  EXPECT_TRUE(says(l, 14, {"laser"}));
+}
+
+TEST(McuWiringErrors, FirmwareMustBeNamedAndExist) {
+  TempDir dir;
+  EXPECT_TRUE(says(load(dir, project_with("")), 4, {"<mcu> needs a <firmware>"}));
+  EXPECT_TRUE(says(load(dir, project_with("      <firmware sources=\"nowhere.c\"/>\n")), 5,
+                   {"firmware source 'nowhere.c' not found"}));
+  EXPECT_TRUE(says(load(dir, project_with("      <firmware executable=\"nowhere\"/>\n")), 5,
+                   {"firmware executable 'nowhere' not found"}));
+  EXPECT_TRUE(says(load(dir, project_with("      <firmware/>\n")), 5, {"either 'executable'", "or 'sources'"}));
+}
+
+TEST(McuWiringErrors, AMotorCannotBeDrivenByBothAScriptAndAnMcu) {
+  TempDir dir;
+  const Loaded l = load(dir, project_with(kFirmware + "      <motor name=\"left\" pwm=\"3\" dir=\"12\"/>\n",
+                                          "    <script><motor t=\"0\" name=\"left\" duty=\"1\"/></script>\n"));
+  EXPECT_TRUE(says(l, 7, {"'left' is driven by both the robot's <script> and mcu 'main'"}));
+}
+
+}  // namespace
+}  // namespace sear

@@ -1,0 +1,397 @@
+// Range sensing: the ray pattern of a cone bundle, and distances to boxes, trees, walls, terrain and
+// meshes checked against their geometry; a robot does not see itself; a wide beam sees a thin pole.
+#include "sensors/range_sensor.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "physics/physics_world.hpp"
+#include "physics/scenery.hpp"
+#include "temp_dir.hpp"
+#include "test_world.hpp"
+
+namespace sear {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// A world's terrain and obstacles, with no robot. The description outlives the physics world: a
+// heightfield reads its heights from it.
+struct Scene {
+  explicit Scene(const std::string& world_children)
+      : project(test::project_from_xml(test::project_xml(R"(step="0.001")", world_children, ""))),
+        physics(project.world, 1) {
+    build_terrain(physics, project.world.terrain);
+    const auto problems = build_obstacles(physics, project.world, project.file);
+    if (!problems.empty()) throw std::runtime_error(problems.front());
+  }
+  ProjectDesc project;
+  PhysicsWorld physics;
+};
+
+int entity_of(const PhysicsWorld& physics, const std::string& name) {
+  const auto& names = physics.entity_names();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<int>(i);
+  throw std::invalid_argument("no entity '" + name + "'");
+}
+
+RangeBeam beam_at(const Eigen::Vector3d& position, double yaw_deg, double pitch_deg = 0, double max_range = 10,
+                  double half_angle_deg = 0) {
+  RangeBeam beam;
+  beam.position_m = position;
+  beam.yaw_rad = yaw_deg * kDeg;
+  beam.pitch_rad = pitch_deg * kDeg;
+  beam.max_range_m = max_range;
+  beam.half_angle_rad = half_angle_deg * kDeg;
+  return beam;
+}
+
+// A sensor placed in the world (no mount body) that ignores nothing.
+RangeReading measure_at(const Scene& scene, const RangeBeam& beam) {
+  return RangeSensor(beam).measure(scene.physics, nullptr, -1);
+}
+
+double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
+
+TEST(RangeSensorRays, CountFollowsTheFormulaAndEveryRayLiesInsideTheCone) {
+  // Hand counts: 1 axis ray + max(3, ceil(pi / asin(sin(delta/2) / sin(theta)))) per cone.
+  struct Case {
+    double alpha_deg, delta_deg;
+    std::vector<int> per_cone;  // outermost first
+  };
+  const std::vector<Case> cases = {{5, 1, {32, 26, 19, 13, 6}},
+                                   {15, 2, {47, 41, 35, 29, 22, 16, 10, 3}},
+                                   {2.5, 1, {16, 10, 3}},
+                                   {12.5, 2.5, {32, 25, 19, 13, 6}},
+                                   {0.4, 1, {3}}};
+  for (const auto& c : cases) {
+    RangeBeam beam = beam_at({0.1, 0.2, 0.3}, 30, 10, 1, c.alpha_deg);
+    beam.resolution_rad = c.delta_deg * kDeg;
+    const RangeSensor sensor(beam);
+    const auto& rays = sensor.directions();
+    int total = 1;
+    for (int n : c.per_cone) total += n;
+    ASSERT_EQ(rays.size(), static_cast<std::size_t>(total)) << c.alpha_deg << "/" << c.delta_deg;
+
+    const double alpha = c.alpha_deg * kDeg, delta = c.delta_deg * kDeg;
+    const Eigen::Vector3d axis = rays[0];
+    for (const auto& d : rays) {
+      EXPECT_NEAR(d.norm(), 1.0, 1e-12);
+      EXPECT_LE(angle_between(axis, d), alpha + 1e-12);
+    }
+    for (std::size_t k = 0; k < c.per_cone.size(); ++k) {
+      const double theta = alpha - static_cast<double>(k) * delta;
+      EXPECT_EQ(RangeSensor::rays_on_cone(theta, delta), c.per_cone[k]);
+      std::vector<Eigen::Vector3d> cone;
+      for (const auto& d : rays)
+        if (std::abs(angle_between(axis, d) - theta) < 1e-9) cone.push_back(d);
+      ASSERT_EQ(cone.size(), static_cast<std::size_t>(c.per_cone[k])) << "cone at " << theta / kDeg << " deg";
+      for (std::size_t i = 0; i < cone.size(); ++i) {
+        double nearest = M_PI;
+        for (std::size_t j = 0; j < cone.size(); ++j)
+          if (j != i) nearest = std::min(nearest, angle_between(cone[i], cone[j]));
+        EXPECT_LE(nearest, delta + 1e-12);
+      }
+    }
+    // No direction in the beam is far from a ray: rings half a step apart radially and half a
+    // neighbour gap apart around put the worst at about sqrt(2)/2 delta.
+    const Eigen::Vector3d side = axis.unitOrthogonal(), up = axis.cross(side);
+    for (int i = 0; i <= 40; ++i) {
+      for (int j = 0; j < 72; ++j) {
+        const double psi = alpha * i / 40, phi = 2 * M_PI * j / 72;
+        const Eigen::Vector3d probe =
+            std::cos(psi) * axis + std::sin(psi) * (std::cos(phi) * side + std::sin(phi) * up);
+        double nearest = M_PI;
+        for (const auto& d : rays) nearest = std::min(nearest, angle_between(probe, d));
+        ASSERT_LE(nearest, 0.75 * delta) << "psi " << psi / kDeg << " phi " << phi / kDeg;
+      }
+    }
+  }
+}
+
+TEST(RangeSensorRays, ZeroHalfAngleIsOneRayAlongTheMountAxis) {
+  const RangeSensor sensor(beam_at({0, 0, 0}, 30, 10));
+  ASSERT_EQ(sensor.directions().size(), 1u);
+  // Positive pitch tilts the beam down.
+  const Eigen::Vector3d expected(std::cos(10 * kDeg) * std::cos(30 * kDeg), std::cos(10 * kDeg) * std::sin(30 * kDeg),
+                                 -std::sin(10 * kDeg));
+  EXPECT_NEAR((sensor.directions()[0] - expected).norm(), 0.0, 1e-12);
+  EXPECT_EQ(RangeSensor::rays_on_cone(1 * kDeg, 1 * kDeg), 6);  // a hexagon: neighbours exactly delta apart
+  EXPECT_EQ(RangeSensor::rays_on_cone(0.1 * kDeg, 1 * kDeg), 3);
+}
+
+TEST(RangeSensorRays, RefusesImpossibleBeams) {
+  RangeBeam wide = beam_at({0, 0, 0}, 0, 0, 1, 90);
+  EXPECT_THROW(RangeSensor{wide}, std::invalid_argument);
+  RangeBeam coarse = beam_at({0, 0, 0}, 0, 0, 1, 5);
+  coarse.resolution_rad = 0;
+  EXPECT_THROW(RangeSensor{coarse}, std::invalid_argument);
+  RangeBeam inverted = beam_at({0, 0, 0}, 0, 0, 1);
+  inverted.min_range_m = 2;
+  EXPECT_THROW(RangeSensor{inverted}, std::invalid_argument);
+  RangeBeam dense = beam_at({0, 0, 0}, 0, 0, 1, 60);
+  dense.resolution_rad = 0.05 * kDeg;
+  EXPECT_THROW(RangeSensor{dense}, std::invalid_argument);
+}
+
+// A static crate whose -x face is the plane x = 1.8 (|y| <= 1.5, z 0..1), and a dynamic parcel
+// whose +x face is x = -1.8 (|y| <= 0.2, z 0..0.4).
+constexpr const char* kBoxes =
+    R"(<box name="crate" pos="2 0" size="0.4 3 1"/><box name="parcel" pos="-2 0" size="0.4 0.4 0.4" mass="1"/>)";
+
+TEST(RangeSensorHits, DistanceToABoxFaceIsExact) {
+  const Scene scene(kBoxes);
+  const int crate = entity_of(scene.physics, "crate"), parcel = entity_of(scene.physics, "parcel");
+  for (double x0 : {-1.0, 0.0, 0.5, 1.2, 1.75}) {
+    const RangeReading r = measure_at(scene, beam_at({x0, 0.3, 0.3}, 0));
+    ASSERT_TRUE(r.hit) << x0;
+    EXPECT_NEAR(r.distance_m, 1.8 - x0, 1e-9) << x0;
+    EXPECT_NEAR(r.point_m.x(), 1.8, 1e-9);
+    EXPECT_EQ(r.entity, crate);
+  }
+  for (double yaw : {20.0, -35.0}) {  // oblique: the face's plane along the ray
+    const RangeReading r = measure_at(scene, beam_at({0, 0, 0.3}, yaw));
+    ASSERT_TRUE(r.hit);
+    EXPECT_NEAR(r.distance_m, 1.8 / std::cos(yaw * kDeg), 1e-9) << yaw;
+  }
+  for (double x0 : {0.0, 0.5}) {  // the parcel sits in the dynamic space
+    const RangeReading r = measure_at(scene, beam_at({x0, 0, 0.2}, 180));
+    ASSERT_TRUE(r.hit);
+    EXPECT_NEAR(r.distance_m, x0 + 1.8, 1e-9);
+    EXPECT_EQ(r.entity, parcel);
+  }
+}
+
+TEST(RangeSensorHits, NothingWithinMaxRangeIsAMiss) {
+  const Scene scene(kBoxes);
+  const RangeReading short_of = measure_at(scene, beam_at({0, 0, 0.3}, 0, 0, 1.79));
+  EXPECT_FALSE(short_of.hit);
+  EXPECT_EQ(short_of.distance_m, 1.79);
+  const RangeReading reaches = measure_at(scene, beam_at({0, 0, 0.3}, 0, 0, 1.81));
+  EXPECT_TRUE(reaches.hit);
+  EXPECT_NEAR(reaches.distance_m, 1.8, 1e-9);
+  EXPECT_FALSE(measure_at(scene, beam_at({0, 0, 0.3}, 90, 0, 50)).hit);  // level over open ground
+}
+
+TEST(RangeSensorHits, BelowMinRangeReportsTheTrueDistance) {
+  const Scene scene(kBoxes);
+  RangeBeam beam = beam_at({1.75, 0, 0.3}, 0, 0, 0.8);
+  beam.min_range_m = 0.1;
+  const RangeReading close = measure_at(scene, beam);
+  EXPECT_TRUE(close.hit);
+  EXPECT_TRUE(close.below_min);
+  EXPECT_NEAR(close.distance_m, 0.05, 1e-9);
+  beam.position_m.x() = 1.6;
+  const RangeReading inside = measure_at(scene, beam);
+  EXPECT_TRUE(inside.hit);
+  EXPECT_FALSE(inside.below_min);
+  EXPECT_NEAR(inside.distance_m, 0.2, 1e-9);
+}
+
+TEST(RangeSensorHits, TreeTrunkAndCrown) {
+  // Trunk: radius 0.1 about (3, 1), z 0..2; crown: radius 0.5 about (3, 1, 2).
+  const Scene scene(R"(<tree name="oak" pos="3 1" trunk_radius="0.1" trunk_height="2" crown_radius="0.5"/>)");
+  const int oak = entity_of(scene.physics, "oak");
+  struct Case {
+    Eigen::Vector3d from;
+    double expected;  // 3 - sqrt(r^2 - offset^2)
+  };
+  for (const auto& c : {Case{{0, 1, 0.5}, 2.9}, Case{{0, 1.06, 0.5}, 3 - 0.08}, Case{{0, 1, 2}, 2.5},
+                        Case{{0, 1.3, 2}, 3 - 0.4}}) {
+    const RangeReading r = measure_at(scene, beam_at(c.from, 0));
+    ASSERT_TRUE(r.hit);
+    EXPECT_NEAR(r.distance_m, c.expected, 1e-9) << c.from.transpose();
+    EXPECT_EQ(r.entity, oak);
+  }
+}
+
+TEST(RangeSensorHits, DiagonalWall) {
+  // Centre line x + y = 2, 0.1 m thick: the face towards the origin is n.p = sqrt(2) - 0.05, n = (1, 1)/sqrt(2).
+  const Scene scene(R"(<wall name="fence" from="0 2" to="2 0" height="1" thickness="0.1"/>)");
+  const double face = std::sqrt(2.0) - 0.05;
+  for (double yaw : {45.0, 60.0, 30.0}) {
+    const RangeReading r = measure_at(scene, beam_at({0, 0, 0.5}, yaw));
+    ASSERT_TRUE(r.hit) << yaw;
+    EXPECT_NEAR(r.distance_m, face * std::sqrt(2.0) / (std::cos(yaw * kDeg) + std::sin(yaw * kDeg)), 1e-9) << yaw;
+    EXPECT_EQ(r.entity, entity_of(scene.physics, "fence"));
+  }
+}
+
+TEST(RangeSensorHits, FlatGroundAtHeightOverSinPitch) {
+  const Scene scene("");
+  const double h = 0.3;
+  for (double pitch : {10.0, 30.0, 60.0, 90.0}) {
+    const RangeReading r = measure_at(scene, beam_at({1, -2, h}, 70, pitch));
+    ASSERT_TRUE(r.hit) << pitch;
+    EXPECT_NEAR(r.distance_m, h / std::sin(pitch * kDeg), 1e-9) << pitch;
+    EXPECT_EQ(r.entity, -1);
+  }
+  // A 5 degree bundle pitched 30 degrees down: its lowest ray (on the outer cone, 32 rays, so one
+  // points straight down the cone) leaves 35 degrees below level.
+  RangeBeam bundle = beam_at({1, -2, h}, 70, 30, 10, 5);
+  const RangeReading r = measure_at(scene, bundle);
+  ASSERT_TRUE(r.hit);
+  EXPECT_NEAR(r.distance_m, h / std::sin(35 * kDeg), 1e-9);
+}
+
+// The plane h = 1 + 0.1 y + 0.05 x as a 65 x 65 16-bit PGM over 20 x 20 m (as in terrain_test).
+double plane_height(double x, double y) { return 1.0 + 0.1 * y + 0.05 * x; }
+
+std::string sloped_heightmap(const test::TempDir& dir) {
+  constexpr int n = 65;
+  std::string pgm = "P5\n" + std::to_string(n) + " " + std::to_string(n) + "\n65535\n";
+  for (int row = 0; row < n; ++row) {
+    for (int col = 0; col < n; ++col) {
+      const double x = -10.0 + 20.0 * col / (n - 1), y = 10.0 - 20.0 * row / (n - 1);
+      const auto v = static_cast<unsigned>(std::lround((plane_height(x, y) + 0.5) / 3.0 * 65535.0));
+      pgm += {static_cast<char>(v >> 8), static_cast<char>(v & 0xff)};
+    }
+  }
+  return R"(<terrain type="heightmap" image=")" + dir.write("plane.pgm", pgm) +
+         R"(" size="20 20" min_height="-0.5" max_height="2.5"/>)";
+}
+
+TEST(RangeSensorHits, HeightmapTerrainWhereTheRayMeetsItsPlane) {
+  const test::TempDir dir;
+  const Scene scene(sloped_heightmap(dir));
+  for (const auto& [x0, y0] : std::vector<std::pair<double, double>>{{0, 0}, {3, -4}, {-6, 5}}) {
+    for (double yaw : {0.0, 90.0, 200.0}) {
+      for (double pitch : {35.0, 80.0}) {
+        const double z0 = plane_height(x0, y0) + 0.4;
+        const RangeReading r = measure_at(scene, beam_at({x0, y0, z0}, yaw, pitch));
+        // z0 + t dz = 1 + 0.1 (y0 + t dy) + 0.05 (x0 + t dx), solved for t.
+        const Eigen::Vector3d d(std::cos(pitch * kDeg) * std::cos(yaw * kDeg),
+                                std::cos(pitch * kDeg) * std::sin(yaw * kDeg), -std::sin(pitch * kDeg));
+        const double t = (plane_height(x0, y0) - z0) / (d.z() - 0.1 * d.y() - 0.05 * d.x());
+        ASSERT_TRUE(r.hit) << x0 << ", " << y0 << " yaw " << yaw;
+        // 16-bit levels over 3 m quantise heights to 0.05 mm.
+        EXPECT_NEAR(r.distance_m, t, 2e-4) << x0 << ", " << y0 << " yaw " << yaw << " pitch " << pitch;
+        EXPECT_NEAR(r.point_m.z(), plane_height(r.point_m.x(), r.point_m.y()), 1e-4);
+      }
+    }
+  }
+}
+
+TEST(RangeSensorHits, MeshTerrain) {
+  // The wedge rises from z = 0 at x = 0 to z = 1 at x = 4, |y| <= 1.
+  const Scene scene(std::string(R"(<terrain type="mesh" file=")") + SEAR_TEST_DATA + R"(/meshes/wedge.obj"/>)");
+  const RangeReading down = measure_at(scene, beam_at({2, 0, 3}, 0, 90));
+  ASSERT_TRUE(down.hit);
+  EXPECT_NEAR(down.distance_m, 2.5, 1e-6);
+  // From (1, 0, 2) at 45 degrees down, s = t / sqrt(2): 2 - s = (1 + s) / 4, s = 1.4.
+  const RangeReading slanted = measure_at(scene, beam_at({1, 0, 2}, 0, 45));
+  ASSERT_TRUE(slanted.hit);
+  EXPECT_NEAR(slanted.distance_m, 1.4 * std::sqrt(2.0), 1e-6);
+}
+
+TEST(RangeSensorHits, MeshObstacle) {
+  // `up` at (3, 0): x 3..7, slope z = (x - 3) / 4. `down` at (-3, 5) turned 180 degrees: x -7..-3,
+  // |y - 5| <= 1, a vertical face at x = -7 and the slope z = (-3 - x) / 4.
+  const std::string wedge = std::string(SEAR_TEST_DATA) + "/meshes/wedge.obj";
+  const Scene scene(fmt::format(R"(<mesh name="up" file="{0}" pos="3 0"/><mesh name="down" file="{0}" pos="-3 5" yaw_deg="180"/>)",
+                                wedge));
+  struct Case {
+    Eigen::Vector3d from;
+    double yaw_deg;
+    double expected;
+    const char* entity;
+  };
+  for (const auto& c : {Case{{0, 0, 0.5}, 0, 5, "up"}, Case{{0, 0.5, 0.25}, 0, 4, "up"},
+                        Case{{-10, 5, 0.5}, 0, 3, "down"}, Case{{0, 5, 0.5}, 180, 5, "down"}}) {
+    const RangeReading r = measure_at(scene, beam_at(c.from, c.yaw_deg));
+    ASSERT_TRUE(r.hit) << c.from.transpose();
+    EXPECT_NEAR(r.distance_m, c.expected, 1e-6) << c.from.transpose();
+    EXPECT_EQ(r.entity, entity_of(scene.physics, c.entity));
+  }
+}
+
+TEST(RangeSensorHits, RobotDoesNotSeeItsOwnChassisOrWheels) {
+  // The rover's chassis is 0.30 x 0.18 x 0.06 m; its left wheel spans y 0.0975..0.1225 at x = 0.04.
+  // A block's -x face at x = 0.9 ahead of it, a wall's face at y = 1.0 to its left.
+  const ProjectDesc project = test::project_from_xml(test::project_xml(
+      R"(step="0.001")",
+      R"(<box name="block" pos="1 0" size="0.2 2 0.5"/><wall name="side" from="-2 1.05" to="2 1.05" height="0.5" thickness="0.1"/>)",
+      R"(<robot file="../robots/rover.xml"><pose x="0" y="0" yaw_deg="0"/></robot>)"));
+  Simulation sim(project, 1);
+  test::run_for(sim, 0.5);  // settle on its wheels and caster
+  const Vehicle& rover = sim.robot(0);
+  const dBodyID chassis = rover.chassis_body();
+  const dReal* p = dBodyGetPosition(chassis);
+  const dReal* m = dBodyGetRotation(chassis);
+  Eigen::Matrix3d rotation;
+  rotation << m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10];
+  const Eigen::Vector3d position(p[0], p[1], p[2]);
+
+  // Behind the chassis, looking forward along it.
+  const RangeSensor rear(beam_at({-0.3, 0, 0}, 0, 0, 3));
+  const RangeReading own = rear.measure(sim.physics(), chassis, -1);
+  ASSERT_TRUE(own.hit);
+  EXPECT_EQ(own.entity, rover.entity());
+  EXPECT_NEAR(own.distance_m, 0.15, 1e-9);  // its rear face, 0.15 m behind the centre
+  const RangeReading past = rear.measure(sim.physics(), chassis, rover.entity());
+  ASSERT_TRUE(past.hit);
+  EXPECT_EQ(past.entity, entity_of(sim.physics(), "block"));
+  const Eigen::Vector3d from = position + rotation * Eigen::Vector3d(-0.3, 0, 0);
+  const Eigen::Vector3d forward = rotation * Eigen::Vector3d::UnitX();
+  EXPECT_NEAR(past.distance_m, (0.9 - from.x()) / forward.x(), 1e-6);
+
+  // Inside the chassis, looking left through the left wheel.
+  const RangeSensor left(beam_at({0.04, 0, 0}, 90, 0, 3));
+  const RangeReading wheel = left.measure(sim.physics(), chassis, -1);
+  ASSERT_TRUE(wheel.hit);
+  EXPECT_EQ(wheel.entity, rover.entity());
+  EXPECT_LE(wheel.distance_m, 0.0975 + 1e-6);
+  const RangeReading wall = left.measure(sim.physics(), chassis, rover.entity());
+  ASSERT_TRUE(wall.hit);
+  EXPECT_EQ(wall.entity, entity_of(sim.physics(), "side"));
+  const Eigen::Vector3d centre = position + rotation * Eigen::Vector3d(0.04, 0, 0);
+  const Eigen::Vector3d leftward = rotation * Eigen::Vector3d::UnitY();
+  EXPECT_NEAR(wall.distance_m, (1.0 - centre.y()) / leftward.y(), 1e-6);
+}
+
+// Where a ray from `origin` first meets a vertical cylinder of radius r about (cx, cy), z 0..height;
+// infinity if it does not.
+double ray_meets_pole(const Eigen::Vector3d& origin, const Eigen::Vector3d& d, double cx, double cy, double r,
+                      double height) {
+  const Eigen::Vector2d o(origin.x() - cx, origin.y() - cy), dh(d.x(), d.y());
+  const double a = dh.squaredNorm(), b = 2 * o.dot(dh), c = o.squaredNorm() - r * r;
+  const double disc = b * b - 4 * a * c;
+  if (a == 0 || disc < 0) return INFINITY;
+  const double t = (-b - std::sqrt(disc)) / (2 * a);
+  const double z = origin.z() + t * d.z();
+  return t >= 0 && z >= 0 && z <= height ? t : INFINITY;
+}
+
+TEST(RangeSensorHits, ConeBundleSeesAThinPoleOffTheAxisThatTheCentreRayMisses) {
+  // A 1 cm pole 0.5 m ahead, 3 degrees left of the axis: it subtends +-1.15 degrees, so the axis
+  // ray passes 1.8 degrees wide of it while a 5 degree beam of 1 degree resolution cannot.
+  const double cx = 0.5, cy = 0.5 * std::tan(3 * kDeg), r = 0.01, height = 1.0;
+  const Scene scene(fmt::format(R"(<tree name="pole" pos="{} {}" trunk_radius="{}" trunk_height="{}" crown_radius="0"/>)",
+                                cx, cy, r, height));
+  const Eigen::Vector3d origin(0, 0, 0.3);
+
+  const RangeSensor bundle(beam_at(origin, 0, 0, 0.8, 5));
+  const RangeReading seen = bundle.measure(scene.physics, nullptr, -1);
+  ASSERT_TRUE(seen.hit);
+  EXPECT_EQ(seen.entity, entity_of(scene.physics, "pole"));
+  EXPECT_NEAR(std::hypot(seen.point_m.x() - cx, seen.point_m.y() - cy), r, 1e-6);  // on its surface
+  EXPECT_NEAR((seen.point_m - origin).norm(), seen.distance_m, 1e-9);
+  EXPECT_LE(angle_between(seen.point_m - origin, Eigen::Vector3d::UnitX()), 5 * kDeg + 1e-9);
+  double expected = INFINITY;
+  for (const auto& d : bundle.directions()) expected = std::min(expected, ray_meets_pole(origin, d, cx, cy, r, height));
+  EXPECT_NEAR(seen.distance_m, expected, 1e-6);
+  EXPECT_GT(seen.distance_m, std::hypot(cx, cy) - r - 1e-9);
+
+  EXPECT_FALSE(RangeSensor(beam_at(origin, 0, 0, 0.8, 0)).measure(scene.physics, nullptr, -1).hit);
+  // Turned so the pole sits 8 degrees off the axis, outside the beam, the bundle misses it too.
+  EXPECT_FALSE(RangeSensor(beam_at(origin, -5, 0, 0.8, 5)).measure(scene.physics, nullptr, -1).hit);
+}
+
+}  // namespace
+}  // namespace sear

@@ -1,0 +1,374 @@
+// Firmware builds with the system C compiler, run without a shell, cached under a content hash.
+// Cache layout: <cache_dir>/<name>-<key>/{firmware, firmware.d} and <cache_dir>/<name>-<base>.last.
+
+#include "sear/firmware_builder.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <set>
+#include <string_view>
+
+extern char** environ;
+
+namespace sear {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Bumped whenever what goes into a build changes in a way the key would not otherwise see.
+constexpr std::string_view kLayoutVersion = "sear firmware cache 1";
+
+// FNV-1a 64: a cache key needs a stable, well-spread hash rather than a cryptographic one, and no
+// hashing library in Debian is worth a dependency for that.
+class Fnv1a {
+ public:
+  void bytes(std::string_view data) {
+    for (const char c : data) {
+      hash_ ^= static_cast<unsigned char>(c);
+      hash_ *= 0x100000001b3ULL;
+    }
+  }
+  // Length first, so that ("ab", "c") and ("a", "bc") give different keys.
+  void field(std::string_view data) {
+    bytes(std::to_string(data.size()));
+    bytes(":");
+    bytes(data);
+  }
+  std::string hex() const { return fmt::format("{:016x}", hash_); }
+
+ private:
+  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
+
+std::optional<std::string> read_file(const fs::path& path) {
+  std::error_code error;
+  if (!fs::is_regular_file(path, error)) return std::nullopt;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::string data;
+  char buffer[65536];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) data.append(buffer, static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) return std::nullopt;
+  return data;
+}
+
+struct ProcessResult {
+  bool ok = false;     // exited with status 0
+  std::string output;  // stdout and stderr interleaved, as a terminal would show them
+};
+
+// No shell in between, so paths with spaces or quotes reach the compiler as they are.
+ProcessResult run_process(const std::vector<std::string>& args) {
+  int fds[2];
+  // Close-on-exec, so a compiler spawned by another thread does not hold our pipe open.
+  if (pipe2(fds, O_CLOEXEC) != 0) throw FirmwareBuildError(fmt::format("cannot create a pipe: {}", std::strerror(errno)));
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], STDERR_FILENO);
+  std::vector<char*> argv;
+  for (const auto& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawn_error = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(fds[1]);
+  if (spawn_error != 0) {
+    close(fds[0]);
+    throw FirmwareBuildError(fmt::format("cannot run the C compiler '{}': {} (set $CC to the compiler to use)",
+                                         args[0], std::strerror(spawn_error)));
+  }
+  ProcessResult result;
+  char buffer[4096];
+  for (;;) {
+    const ssize_t n = read(fds[0], buffer, sizeof buffer);
+    if (n > 0) {
+      result.output.append(buffer, static_cast<std::size_t>(n));
+    } else if (n == 0 || errno != EINTR) {
+      break;
+    }
+  }
+  close(fds[0]);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) throw FirmwareBuildError(fmt::format("cannot wait for '{}': {}", args[0], std::strerror(errno)));
+  }
+  if (WIFSIGNALED(status)) result.output += fmt::format("{}: killed by signal {}\n", args[0], WTERMSIG(status));
+  result.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  return result;
+}
+
+// Names become directory names; anything but a plain name character could escape the cache.
+std::string safe_name(const std::string& name) {
+  std::string out;
+  for (const char c : name) {
+    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+    out += plain ? c : '_';
+  }
+  return out.empty() ? "firmware" : out;
+}
+
+std::vector<std::string> compile_flags(const FirmwareToolchain& toolchain, const std::vector<fs::path>& sources) {
+  std::vector<std::string> flags{"-std=c99", "-O2", "-g", "-Wall", "-Wextra", "-fno-common"};
+  flags.push_back("-I" + fs::absolute(toolchain.hal_include_dir).lexically_normal().string());
+  std::set<std::string> seen;
+  for (const auto& source : sources) {
+    const std::string dir = source.parent_path().string();
+    if (seen.insert(dir).second) flags.push_back("-I" + dir);
+  }
+  return flags;
+}
+
+// The files listed in the compiler's make-syntax dependency output (-MMD with -MT firmware).
+std::set<std::string> parse_dependencies(const std::string& text) {
+  std::set<std::string> files;
+  std::string token;
+  const auto flush = [&] {
+    if (!token.empty() && token != "firmware:") files.insert(token);
+    token.clear();
+  };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    const char next = i + 1 < text.size() ? text[i + 1] : '\0';
+    if (c == '\\' && next == '\n') {
+      flush();
+      ++i;
+    } else if (c == '\\' && (next == ' ' || next == '\t' || next == '#' || next == '\\')) {
+      token += next;  // make's escapes for characters that would otherwise split or end the rule
+      ++i;
+    } else if (c == '$' && next == '$') {
+      token += '$';
+      ++i;
+    } else if (c == ' ' || c == '\t' || c == '\n' || c == '\r') {
+      flush();
+    } else {
+      token += c;
+    }
+  }
+  flush();
+  return files;
+}
+
+// The final key: the inputs known before compiling plus every file the compiler read, by path and content.
+// A header created later earlier on the include path is not seen until something listed changes; ccache
+// and make share that blind spot.
+std::string full_key(const std::string& base, const std::set<std::string>& dependencies) {
+  Fnv1a hash;
+  hash.field(base);
+  hash.field(std::to_string(dependencies.size()));
+  for (const auto& file : dependencies) {
+    hash.field(file);
+    const auto content = read_file(file);
+    hash.field(content ? "present" : "missing");
+    if (content) hash.field(*content);
+  }
+  return hash.hex();
+}
+
+// Removes a build's scratch directory however the build ends.
+class ScratchDir {
+ public:
+  explicit ScratchDir(fs::path path) : path_(std::move(path)) {}
+  ~ScratchDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// Unique per process and per call, so concurrent builds in one cache never share scratch space.
+fs::path make_scratch_dir(const fs::path& cache, const std::string& name) {
+  static std::atomic<unsigned> counter{0};
+  for (int attempt = 0; attempt < 1000; ++attempt) {
+    const fs::path candidate = cache / fmt::format(".tmp-{}-{}-{}", name, getpid(), counter++);
+    std::error_code error;
+    if (fs::create_directory(candidate, error)) return candidate;
+    if (error) {
+      throw FirmwareBuildError(
+          fmt::format("{}: error: cannot create a build directory: {}", candidate.string(), error.message()));
+    }
+  }
+  throw FirmwareBuildError(fmt::format("{}: error: cannot create a build directory", cache.string()));
+}
+
+// Readers only ever see the old pointer or the new one.
+void write_atomically(const fs::path& path, const std::string& text, const fs::path& scratch) {
+  const fs::path temp = scratch / "pointer";
+  {
+    std::ofstream out(temp, std::ios::binary);
+    out << text;
+    if (!out) return;  // the pointer only saves a rebuild; missing it is not an error
+  }
+  std::error_code ignored;
+  fs::rename(temp, path, ignored);
+}
+
+std::string getenv_or_empty(const char* name) {
+  const char* value = std::getenv(name);
+  return value ? value : "";
+}
+
+}  // namespace
+
+FirmwareToolchain default_toolchain(std::string hal_include_dir, std::vector<std::string> libraries,
+                                    std::vector<std::string> link_flags) {
+  FirmwareToolchain toolchain;
+  toolchain.compiler = getenv_or_empty("CC");
+  if (toolchain.compiler.empty()) toolchain.compiler = "cc";
+  toolchain.hal_include_dir = std::move(hal_include_dir);
+  toolchain.libraries = std::move(libraries);
+  toolchain.link_flags = std::move(link_flags);
+  const std::string sear_cache = getenv_or_empty("SEAR_CACHE_DIR");
+  const std::string xdg_cache = getenv_or_empty("XDG_CACHE_HOME");
+  const std::string home = getenv_or_empty("HOME");
+  if (!sear_cache.empty()) {
+    toolchain.cache_dir = sear_cache;
+  } else if (!xdg_cache.empty() && fs::path(xdg_cache).is_absolute()) {  // the XDG spec says to ignore relative ones
+    toolchain.cache_dir = (fs::path(xdg_cache) / "sear" / "firmware").string();
+  } else if (!home.empty()) {
+    toolchain.cache_dir = (fs::path(home) / ".cache" / "sear" / "firmware").string();
+  } else {
+    toolchain.cache_dir = (fs::temp_directory_path() / fmt::format("sear-firmware-{}", getuid())).string();
+  }
+  return toolchain;
+}
+
+std::string build_firmware(const std::string& name, const std::vector<std::string>& sources,
+                           const FirmwareToolchain& toolchain, std::string* compiler_output) {
+  if (compiler_output) compiler_output->clear();
+  if (sources.empty()) throw FirmwareBuildError(fmt::format("firmware '{}' names no source files", name));
+
+  // Absolute paths, so the compiler's messages and dependency lists do not depend on our working directory.
+  std::vector<fs::path> source_paths;
+  for (const auto& source : sources) source_paths.push_back(fs::absolute(source).lexically_normal());
+  const std::vector<std::string> flags = compile_flags(toolchain, source_paths);
+
+  // Everything known before compiling goes into the base key; the headers follow in full_key().
+  Fnv1a base;
+  base.field(kLayoutVersion);
+  base.field(toolchain.compiler);
+  const ProcessResult version = run_process({toolchain.compiler, "--version"});
+  if (!version.ok) {
+    throw FirmwareBuildError(fmt::format("cannot run the C compiler '{}' (set $CC to the compiler to use):\n{}",
+                                         toolchain.compiler, version.output));
+  }
+  base.field(version.output);
+  base.field(std::to_string(flags.size()));
+  for (const auto& flag : flags) base.field(flag);
+  base.field(std::to_string(toolchain.libraries.size()));
+  std::vector<std::string> libraries;
+  for (const auto& library : toolchain.libraries) {
+    libraries.push_back(fs::absolute(library).lexically_normal().string());
+    const auto content = read_file(libraries.back());
+    if (!content) {
+      throw FirmwareBuildError(
+          fmt::format("{}: error: cannot read this library, needed by firmware '{}'", libraries.back(), name));
+    }
+    base.field(libraries.back());
+    base.field(*content);
+  }
+  base.field(std::to_string(toolchain.link_flags.size()));
+  for (const auto& flag : toolchain.link_flags) base.field(flag);
+  base.field(std::to_string(source_paths.size()));
+  for (const auto& source : source_paths) {
+    const auto content = read_file(source);
+    if (!content) {
+      throw FirmwareBuildError(fmt::format("{}: error: no such source file for firmware '{}'", source.string(), name));
+    }
+    base.field(source.string());
+    base.field(*content);
+  }
+
+  const std::string prefix = safe_name(name) + "-";
+  const fs::path cache = fs::absolute(toolchain.cache_dir);
+  std::error_code error;
+  fs::create_directories(cache, error);
+  if (error) {
+    throw FirmwareBuildError(
+        fmt::format("{}: error: cannot create the firmware cache: {}", cache.string(), error.message()));
+  }
+
+  // The header list lives with the last build from the same base; if those headers still hash to a
+  // key that has a built executable, that executable was built from exactly these inputs.
+  const fs::path pointer = cache / (prefix + base.hex() + ".last");
+  if (const auto last = read_file(pointer)) {
+    if (last->size() == prefix.size() + 16 && last->compare(0, prefix.size(), prefix) == 0) {
+      if (const auto deps = read_file(cache / *last / "firmware.d")) {
+        const fs::path executable = cache / (prefix + full_key(base.hex(), parse_dependencies(*deps))) / "firmware";
+        if (fs::is_regular_file(executable, error)) return executable.string();
+      }
+    }
+  }
+
+  const ScratchDir scratch(make_scratch_dir(cache, safe_name(name)));
+  std::string output;
+  bool compiled = true;
+  std::vector<std::string> link{toolchain.compiler};
+  std::string dependencies_text;
+  for (std::size_t i = 0; i < source_paths.size(); ++i) {
+    const std::string object = (scratch.path() / fmt::format("{}.o", i)).string();
+    const std::string dep_file = (scratch.path() / fmt::format("{}.d", i)).string();
+    std::vector<std::string> args{toolchain.compiler};
+    args.insert(args.end(), flags.begin(), flags.end());
+    args.insert(args.end(), {"-MMD", "-MF", dep_file, "-MT", "firmware", "-c", source_paths[i].string(), "-o", object});
+    // Every source is compiled even after one fails, so one attempt shows all the errors.
+    const ProcessResult result = run_process(args);
+    output += result.output;
+    compiled = compiled && result.ok;
+    link.push_back(object);
+    if (result.ok) dependencies_text += read_file(dep_file).value_or("") + "\n";
+  }
+  if (!compiled) throw FirmwareBuildError(fmt::format("firmware '{}' failed to build:\n{}", name, output));
+
+  const fs::path staged = scratch.path() / "staged";
+  fs::create_directory(staged, error);
+  link.insert(link.end(), libraries.begin(), libraries.end());
+  link.insert(link.end(), toolchain.link_flags.begin(), toolchain.link_flags.end());
+  link.insert(link.end(), {"-o", (staged / "firmware").string()});
+  const ProcessResult linked = run_process(link);
+  output += linked.output;
+  if (!linked.ok) throw FirmwareBuildError(fmt::format("firmware '{}' failed to build:\n{}", name, output));
+  {
+    std::ofstream out(staged / "firmware.d", std::ios::binary);
+    out << dependencies_text;
+    if (!out) throw FirmwareBuildError(fmt::format("{}: error: cannot write", (staged / "firmware.d").string()));
+  }
+
+  // The key directory appears whole, in one rename, or not at all.
+  const std::string key = prefix + full_key(base.hex(), parse_dependencies(dependencies_text));
+  const fs::path key_dir = cache / key;
+  for (int attempt = 0;; ++attempt) {
+    if (std::rename(staged.c_str(), key_dir.c_str()) == 0) break;
+    const int rename_error = errno;
+    if (fs::is_regular_file(key_dir / "firmware", error)) break;  // a concurrent build of the same inputs won
+    if (attempt > 0 || (rename_error != ENOTEMPTY && rename_error != EEXIST)) {
+      throw FirmwareBuildError(fmt::format("{}: error: cannot store the built firmware: {}", key_dir.string(),
+                                           std::strerror(rename_error)));
+    }
+    fs::remove_all(key_dir, error);  // left half-deleted by hand; nothing can be running from it
+  }
+  write_atomically(pointer, key, scratch.path());
+  if (compiler_output) *compiler_output = output;
+  return (key_dir / "firmware").string();
+}
+
+}  // namespace sear

@@ -1,0 +1,36 @@
+// Builds a firmware from its C sources with the system C compiler against the HAL, and keeps the
+// executable in a cache keyed by everything that goes into it, so unchanged firmware is not rebuilt.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sear {
+
+struct FirmwareToolchain {
+  std::string compiler;                 // one program, found on PATH: "cc" unless $CC names another
+  std::string hal_include_dir;          // holds hal/*.h
+  std::vector<std::string> libraries;   // static libraries to link, in order (the HAL runtime, device models)
+  std::vector<std::string> link_flags;  // after the libraries, e.g. -lm
+  std::string cache_dir;                // where built firmware is kept; created when missing
+};
+
+// what(): a first line naming the firmware, then the compiler's messages verbatim (they carry file:line).
+struct FirmwareBuildError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// compiler from $CC, else "cc"; cache_dir from $SEAR_CACHE_DIR, else $XDG_CACHE_HOME/sear/firmware,
+// else $HOME/.cache/sear/firmware.
+FirmwareToolchain default_toolchain(std::string hal_include_dir, std::vector<std::string> libraries,
+                                    std::vector<std::string> link_flags = {});
+
+// Returns the path of an up-to-date executable built from `sources`, compiling only when a source, a
+// header one of them includes, a library, the compiler or the flags changed. Concurrent calls, in this
+// process or another, never see a half-written executable. When `compiler_output` is given it receives
+// what the compiler said on a successful build (its warnings); it is left empty when nothing was built.
+std::string build_firmware(const std::string& name, const std::vector<std::string>& sources,
+                           const FirmwareToolchain& toolchain, std::string* compiler_output = nullptr);
+
+}  // namespace sear

@@ -1,0 +1,28 @@
+// Turns every MCU's <firmware sources="..."> into an executable before a run, through the cached
+// firmware builder, against the HAL runtime this `sear` was built with.
+#include <fmt/format.h>
+
+#include "scene/description.hpp"
+#include "sear/commands.hpp"
+#include "sear/firmware_builder.hpp"
+
+namespace sear {
+
+void build_project_firmware(ProjectDesc& project, bool quiet) {
+  std::vector<std::string> link_flags{"-lm"};
+#ifdef SEAR_FIRMWARE_SANITIZE
+  link_flags.push_back(SEAR_FIRMWARE_SANITIZE);
+#endif
+  const FirmwareToolchain toolchain =
+      default_toolchain(SEAR_HAL_INCLUDE_DIR, {SEAR_HAL_RUNTIME_LIBRARY, SEAR_DEVICES_LIBRARY}, link_flags);
+  for (auto& robot : project.robots) {
+    for (auto& mcu : robot.mcus) {
+      if (mcu.firmware_sources.empty()) continue;
+      std::string warnings;
+      mcu.firmware_executable = build_firmware(robot.name + "." + mcu.name, mcu.firmware_sources, toolchain, &warnings);
+      if (!warnings.empty() && !quiet) fmt::print(stderr, "{}", warnings);
+    }
+  }
+}
+
+}  // namespace sear
