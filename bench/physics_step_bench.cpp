@@ -14,10 +14,20 @@ sear::ProjectDesc default_project(int solver_iterations) {
   auto project = sear::load_project(SEAR_DEFAULT_PROJECT, diagnostics);
   if (!project) throw std::runtime_error(diagnostics.joined());
   if (solver_iterations > 0) project->world.solver_iterations = solver_iterations;
+  // Physics alone: the rover drives on a script instead of its firmware (see lockstep_bench).
+  auto& rover = project->robots.at(0);
+  rover.mcus.clear();
+  for (const char* motor : {"left", "right"}) {
+    sear::ScriptCommand c;
+    c.actuator = motor;
+    c.duty = 0.8;
+    c.direction = sear::MotorDirection::Forward;
+    rover.script.push_back(c);
+  }
   return *project;
 }
 
-// Steps the default project from its start, with the rover driving its scripted course; the
+// Steps the default project from its start, with the rover driving straight on; the
 // world is rebuilt (untimed) every 30 simulated seconds so each step stays representative.
 void BM_DefaultProjectStep(benchmark::State& state) {
   const sear::ProjectDesc project = default_project(static_cast<int>(state.range(0)));

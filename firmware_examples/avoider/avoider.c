@@ -22,7 +22,12 @@
 #define TURN 130
 #define NEAR_CM 30     /* turn away below this */
 #define VEER_CM 55     /* steer away below this */
+#define CLEAR_MARGIN_CM 10 /* stop veering only this far beyond VEER_CM, or it would dither */
 #define FAR_CM 80      /* the GP2D12's range ends here */
+
+enum { CRUISING, VEERING_LEFT, VEERING_RIGHT, TURNING_LEFT, TURNING_RIGHT };
+static const char *const state_names[] = {"cruising", "veering left", "veering right", "turning left",
+                                          "turning right"};
 
 static volatile uint8_t bumped;
 
@@ -65,36 +70,52 @@ int main(void) {
   delay_ms(100); /* the rangers' first measurement is ready after one 38 ms cycle */
 
   uint32_t next_report = 0;
-  uint8_t turning = 0;
-  char line[48];
+  uint8_t state = CRUISING;
+  char line[64];
   for (;;) {
     const uint8_t left = ir_cm(IR_LEFT_CHANNEL);
     const uint8_t right = ir_cm(IR_RIGHT_CHANNEL);
     const uint8_t front = digital_read(IR_FRONT_PIN);
 
+    uint8_t next;
     if (bumped) {
-      say("avoider: bump! backing off\r\n");
+      say("bump: backing off\r\n");
       drive(-TURN, -TURN);
       delay_ms(400);
       drive(-TURN, TURN);
       delay_ms(350);
       bumped = 0;
+      next = CRUISING;
     } else if (front || left < NEAR_CM || right < NEAR_CM) {
       /* Turn on the spot away from the nearer side, and keep turning the same way until clear,
        * so that a corner cannot make it dither. */
-      if (!turning) turning = left < right ? 2 : 1; /* 1: turn left, 2: turn right */
-      if (turning == 1) drive(-TURN, TURN);
-      else drive(TURN, -TURN);
+      if (state == TURNING_LEFT || state == TURNING_RIGHT) next = state;
+      else next = left < right ? TURNING_RIGHT : TURNING_LEFT;
+    } else if (left < VEER_CM || (state == VEERING_RIGHT && left < VEER_CM + CLEAR_MARGIN_CM)) {
+      next = VEERING_RIGHT;
+    } else if (right < VEER_CM || (state == VEERING_LEFT && right < VEER_CM + CLEAR_MARGIN_CM)) {
+      next = VEERING_LEFT;
     } else {
-      turning = 0;
-      if (left < VEER_CM) drive(CRUISE, CRUISE / 3);
-      else if (right < VEER_CM) drive(CRUISE / 3, CRUISE);
-      else drive(CRUISE, CRUISE);
+      next = CRUISING;
+    }
+    switch (next) {
+      case TURNING_LEFT: drive(-TURN, TURN); break;
+      case TURNING_RIGHT: drive(TURN, -TURN); break;
+      case VEERING_LEFT: drive(CRUISE / 3, CRUISE); break;
+      case VEERING_RIGHT: drive(CRUISE, CRUISE / 3); break;
+      default: drive(CRUISE, CRUISE); break;
+    }
+    if (next != state) {
+      snprintf(line, sizeof line, "%s (L %u cm, R %u cm, front %s)\r\n", state_names[next], left, right,
+               front ? "near" : "clear");
+      say(line);
+      state = next;
     }
 
     if (millis() >= next_report) {
-      next_report += 1000;
-      snprintf(line, sizeof line, "L %3u cm  R %3u cm  front %s\r\n", left, right, front ? "near" : "clear");
+      next_report += 10000;
+      snprintf(line, sizeof line, "still going: L %u cm, R %u cm, front %s\r\n", left, right,
+               front ? "near" : "clear");
       say(line);
     }
     delay_ms(20);

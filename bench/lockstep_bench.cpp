@@ -1,0 +1,104 @@
+// The cost of lockstep itself: the default world stepped alone, and with one MCU whose firmware
+// only calls delay_ms(1), so that each quantum is one hand-off to the firmware and back; and the
+// cost of a HAL call that needs no hand-off, timed inside a firmware.
+#include <benchmark/benchmark.h>
+
+#include <regex>
+#include <stdexcept>
+
+#include "runtime/lockstep.hpp"
+#include "scene/project_loader.hpp"
+
+namespace {
+
+// The default world with its rover driving straight on a script, and `firmware` (if any) on one
+// MCU wired to nothing.
+sear::ProjectDesc bench_project(const char* firmware, double hal_call_cycles) {
+  sear::Diagnostics diagnostics;
+  auto project = sear::load_project(SEAR_DEFAULT_PROJECT, diagnostics);
+  if (!project) throw std::runtime_error(diagnostics.joined());
+  auto& rover = project->robots.at(0);
+  rover.mcus.clear();
+  for (const char* motor : {"left", "right"}) {
+    sear::ScriptCommand c;
+    c.actuator = motor;
+    c.duty = 0.6;
+    c.direction = sear::MotorDirection::Forward;
+    rover.script.push_back(c);
+  }
+  if (firmware) {
+    sear::McuDesc mcu;
+    mcu.name = "bench";
+    mcu.firmware_executable = firmware;
+    mcu.hal_call_cycles = hal_call_cycles;
+    rover.mcus.push_back(mcu);
+  }
+  return *project;
+}
+
+struct ConsoleLine : sear::McuListener {
+  std::string line, last;
+  void on_event(std::size_t, const sear_event& e) override {
+    if (e.kind != SEAR_EVENT_UART_TX) return;
+    if (e.value == '\n') last = line, line.clear();
+    else line.push_back(static_cast<char>(e.value));
+  }
+};
+
+constexpr std::int64_t kRebuildNs = 20'000'000'000;  // keeps the rover inside the arena
+
+void BM_StepWithoutFirmware(benchmark::State& state) {
+  const auto project = bench_project(nullptr, 0);
+  auto sim = std::make_unique<sear::Simulation>(project, 1);
+  for (auto _ : state) {
+    if (sim->time_ns() >= kRebuildNs) {
+      state.PauseTiming();
+      sim = std::make_unique<sear::Simulation>(project, 1);
+      state.ResumeTiming();
+    }
+    sim->step();
+  }
+  state.counters["sim_s_per_wall_s"] = benchmark::Counter(1e-3 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_StepWithoutFirmware)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+
+void BM_StepWithIdleFirmware(benchmark::State& state) {
+  const auto project = bench_project(BENCH_IDLE_FIRMWARE, 50);
+  ConsoleLine console;
+  auto sim = std::make_unique<sear::Simulation>(project, 1);
+  auto lockstep = std::make_unique<sear::Lockstep>(*sim, project, sear::LockstepOptions{"/tmp", 5, false}, console);
+  for (auto _ : state) {
+    if (sim->time_ns() >= kRebuildNs) {
+      state.PauseTiming();
+      lockstep.reset();
+      sim = std::make_unique<sear::Simulation>(project, 1);
+      lockstep = std::make_unique<sear::Lockstep>(*sim, project, sear::LockstepOptions{"/tmp", 5, false}, console);
+      state.ResumeTiming();
+    }
+    if (!lockstep->step()) state.SkipWithError("the firmware stopped");
+  }
+  state.counters["sim_s_per_wall_s"] = benchmark::Counter(1e-3 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_StepWithIdleFirmware)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+
+// One-shot: the firmware times 20 million digital_read() calls on the host's clock.
+void BM_HalCallWithoutExchange(benchmark::State& state) {
+  const auto project = bench_project(BENCH_HAL_CALL_FIRMWARE, 0);
+  for (auto _ : state) {
+    ConsoleLine console;
+    sear::Simulation sim(project, 1);
+    sear::Lockstep lockstep(sim, project, {"/tmp", 60, false}, console);
+    while (console.last.empty() && sim.time_ns() < 1'000'000'000) lockstep.step();
+    std::smatch m;
+    if (!std::regex_search(console.last, m, std::regex("ns per HAL call ([0-9.]+)"))) {
+      state.SkipWithError("no timing from the firmware");
+      break;
+    }
+    state.counters["ns_per_hal_call"] = std::stod(m[1]);
+  }
+}
+BENCHMARK(BM_HalCallWithoutExchange)->Iterations(1)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
