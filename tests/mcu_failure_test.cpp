@@ -86,5 +86,16 @@ TEST(McuFailure, KeepGoingRunsToTheEndWithoutThatMcuAndStillFails) {
   EXPECT_NE(run.file("rover.other.console.log").find(" ticks 1"), std::string::npos);
 }
 
+TEST(McuFailure, FirmwareThatDoesNotCompileStopsTheRunWithTheCompilersFileAndLine) {
+  TempDir dir;
+  dir.write("broken.c", "#include <hal/hal.h>\nint main(void) {\n  hal_init()\n  return 0;\n}\n");
+  const std::string project = rover_project("    <mcu name=\"main\">\n      <firmware sources=\"broken.c\"/>\n    </mcu>\n");
+  const auto run = run_sear(dir, project, "");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("firmware 'rover.main' failed to build"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("broken.c:3:"), std::string::npos) << run.err;  // the missing ';'
+  EXPECT_FALSE(std::filesystem::exists(run.dir / "summary.json"));
+}
+
 }  // namespace
 }  // namespace sear::test

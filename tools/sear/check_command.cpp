@@ -9,7 +9,7 @@ namespace sear {
 int check_command(const std::string& project) {
   Diagnostics diagnostics;
   const std::string path = resolve_project_path(project);
-  const auto loaded = load_project(path, diagnostics);
+  auto loaded = load_project(path, diagnostics);
   if (!loaded) {
     fmt::print(stderr, "{}", diagnostics.joined());
     fmt::print(stderr, "{}: {} error{}\n", path, diagnostics.all().size(), diagnostics.all().size() == 1 ? "" : "s");
@@ -18,6 +18,13 @@ int check_command(const std::string& project) {
   // Building the world finds what only the world knows, such as a robot placed off the terrain.
   try {
     Simulation world(*loaded, loaded->run.seed);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "{}\n", e.what());
+    return 1;
+  }
+  // Firmware named by its sources must compile: a run would stop there too (and the build is cached).
+  try {
+    build_project_firmware(*loaded, false);
   } catch (const std::exception& e) {
     fmt::print(stderr, "{}\n", e.what());
     return 1;
