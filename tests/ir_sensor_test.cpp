@@ -2,6 +2,7 @@
 // ADC against its 5 V reference, as a firmware reads them.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <regex>
 
 #include "firmware_run.hpp"
@@ -42,6 +43,31 @@ TEST(Gp2d12ThroughTheAdc, ReadingsAt10_20_40And80cmFollowTheDatasheetCurve) {
   EXPECT_GT(std::stoi(m[1]), std::stoi(m[2]));
   EXPECT_GT(std::stoi(m[2]), std::stoi(m[3]));
   EXPECT_GT(std::stoi(m[3]), std::stoi(m[4]));
+}
+
+TEST(Gp2d12ThroughTheAdc, TheOutputChangesOnlyAtEachNew38Point3msMeasurement) {
+  // The rover drives towards a wall on a script while its firmware reads the ranger every
+  // millisecond: each change of reading must come from a measurement at k * 38.3 ms.
+  const std::string mcu = std::string("    <script>\n      <motor t=\"0\" name=\"left\" duty=\"0.5\"/>\n"
+                                      "      <motor t=\"0\" name=\"right\" duty=\"0.5\"/>\n    </script>\n"
+                                      "    <mcu name=\"main\">\n      <firmware executable=\"") +
+                          ADC_WATCH + "\"/>\n      <gp2d12 name=\"ir\" adc=\"0\" pos=\"0.15 0 0.02\"/>\n    </mcu>\n";
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(mcu, "    <wall name=\"w\" from=\"1.2 -1\" to=\"1.2 1\" height=\"0.4\"/>\n", 1.5));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto lines = lines_of(run.file("rover.main.console.log"));
+  int changes = 0;
+  std::smatch m;
+  for (const auto& line : lines) {
+    ASSERT_TRUE(std::regex_search(line, m, std::regex(" (\\d+) (\\d+)$"))) << line;
+    const double t_us = std::stod(m[1]);
+    if (changes++ == 0) continue;  // the first reading, not a change
+    // Read once a millisecond (plus the calls' cost): within 1.2 ms after the measurement.
+    const double since = std::fmod(t_us, 38300.0);
+    EXPECT_LT(since, 1200.0) << "a change at " << t_us << " us, " << since << " us after a measurement";
+  }
+  // Approaching at about 0.35 m/s, nearly every one of the 39 measurements reads differently.
+  EXPECT_GE(changes, 30);
 }
 
 }  // namespace
