@@ -443,7 +443,7 @@ TEST(ProjectErrors, TheBundledDefaultProjectLoadsAsWritten) {
   ASSERT_TRUE(project.has_value());
 
   EXPECT_EQ(project->name, "default");
-  EXPECT_DOUBLE_EQ(project->run.duration_s, 30.0);
+  EXPECT_DOUBLE_EQ(project->run.duration_s, 60.0);
   EXPECT_EQ(project->run.seed, 1u);
   EXPECT_DOUBLE_EQ(project->run.trace_rate_hz, 50.0);
 
