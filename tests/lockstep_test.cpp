@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <regex>
@@ -69,6 +70,28 @@ TEST(Lockstep, A1kHzTimerFiresExactly1000TimesPerSimulatedSecond) {
     std::snprintf(expected, sizeof expected, "%d.%09.0f ticks %d\n", s, line_s * 1e9, 1000 * s);
     EXPECT_NE(console.find(expected), std::string::npos) << "no '" << expected << "' in\n" << console;
   }
+}
+
+TEST(Lockstep, PinsAndInterruptsBehaveAsOnTheChip) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(std::string(R"(    <mcu name="main">
+      <firmware executable=")") + GPIO_PROBE + R"("/>
+      <motor name="left" pwm="3" dir="12"/>
+    </mcu>
+)", "", 0.5));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // The pull-up reads HIGH; INPUT_PULLUP then OUTPUT drives HIGH; INPUT then OUTPUT drives LOW;
+  // a 1 kHz handler that disables interrupts still runs every millisecond for 100 ms.
+  EXPECT_NE(run.file("rover.main.console.log").find("a=1 b=1 c=0 ticks=100"), std::string::npos)
+      << run.file("rover.main.console.log");
+  // pwm_write(3, 255) drives the left motor at full duty, forward.
+  const auto rows = lines_of(run.file("trace_rover.csv"));
+  const auto header = rows.front();
+  const auto column = std::count(header.begin(), header.begin() + static_cast<long>(header.find("motor_left_duty")), ',');
+  std::istringstream last(rows.back());
+  std::string cell;
+  for (long i = 0; i <= column; ++i) std::getline(last, cell, ',');
+  EXPECT_DOUBLE_EQ(std::stod(cell), 1.0) << header << "\n" << rows.back();
 }
 
 class SerialProbe : public ::testing::Test {

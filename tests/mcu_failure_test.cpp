@@ -56,7 +56,10 @@ TEST(McuFailure, ACrashIsReportedWithItsSignal) {
 
 TEST(McuFailure, AnExitIsReportedWithItsCode) {
   TempDir dir;
-  expect_report(run_sear(dir, rover_project(one_mcu(EXIT_PROBE))), {EXIT_PROBE, "exited", "exited with code 3", "delay_ms"});
+  const auto run = run_sear(dir, rover_project(one_mcu(EXIT_PROBE)));
+  expect_report(run, {EXIT_PROBE, "exited", "exited with code 3", "delay_ms"});
+  // Its destructor's HAL calls, after exit(), neither hang the run nor reach the logs.
+  EXPECT_EQ(run.file("rover.main.console.log").find("goodbye"), std::string::npos);
 }
 
 TEST(McuFailure, AFirmwareThatStopsCallingTheHalIsReportedAsHungAndStopped) {

@@ -100,5 +100,13 @@ TEST(McuWiringErrors, AMotorCannotBeDrivenByBothAScriptAndAnMcu) {
   EXPECT_TRUE(says(l, 7, {"'left' is driven by both the robot's <script> and mcu 'main'"}));
 }
 
+TEST(McuWiringErrors, AnMcuTakesAtMost32Sensors) {
+  std::string bumps;
+  for (int pin = 22; pin < 22 + 33; ++pin)
+    bumps += "      <bump name=\"b" + std::to_string(pin) + "\" pin=\"" + std::to_string(pin) + "\"/>\n";
+  TempDir dir;
+  EXPECT_TRUE(says(load(dir, project_with(kFirmware + bumps)), 4, {"mcu 'main' has 33 sensors; an MCU takes at most 32"}));
+}
+
 }  // namespace
 }  // namespace sear

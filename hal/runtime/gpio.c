@@ -8,12 +8,14 @@ void mcu_check_pin(uint8_t pin, const char *call) {
   if (pin >= SEAR_LINK_PINS) mcu_fatal("%s(%u): the ATmega2560 board has pins 0..69", call, pin);
 }
 
+/* As in the chip's PORT register, an input's latch is its pull-up: INPUT clears it,
+ * INPUT_PULLUP sets it, and digital_write() on an input switches it. */
 uint8_t mcu_pin_level(uint8_t pin) {
   if (sear_mcu.mode[pin] == OUTPUT) return sear_mcu.latch[pin];
   if (sear_mcu.driven[pin] != MCU_FLOATING) return sear_mcu.driven[pin];
   /* An input nobody drives reads HIGH through the pull-up; without one it floats, and SEAR reads
    * it LOW rather than the noise a real pin would pick up. */
-  return sear_mcu.mode[pin] == INPUT_PULLUP ? HIGH : LOW;
+  return sear_mcu.latch[pin];
 }
 
 void mcu_set_driven(uint8_t pin, uint8_t level, int64_t time_ns) {
@@ -31,6 +33,8 @@ void pin_mode(uint8_t pin, uint8_t mode) {
   const int64_t now = mcu_enter(SEAR_CALL_pin_mode);
   mcu_check_pin(pin, "pin_mode");
   if (mode > INPUT_PULLUP) mcu_fatal("pin_mode(%u, %u): mode must be INPUT, OUTPUT or INPUT_PULLUP", pin, mode);
+  if (mode == INPUT) sear_mcu.latch[pin] = LOW;
+  if (mode == INPUT_PULLUP) sear_mcu.latch[pin] = HIGH;
   if (sear_mcu.mode[pin] == mode) return;
   sear_mcu.mode[pin] = mode;
   sear_mcu.pwm[pin] = 0;

@@ -29,6 +29,7 @@ static void wait_for_turn(void) {
 
 static void hand_over(enum sear_request request) {
   struct sear_link *link = sear_mcu.link;
+  if (sear_mcu.exiting) return; /* the simulator has let go of this MCU */
   link->request = (uint32_t)request;
   sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
   wait_for_turn();
@@ -49,6 +50,7 @@ void mcu_exchange(void) {
 
 void mcu_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns) {
   struct sear_link *link = sear_mcu.link;
+  if (sear_mcu.exiting) return;
   if (link->event_count == SEAR_LINK_MAX_EVENTS) hand_over(SEAR_REQUEST_DRAIN);
   struct sear_event *e = &link->events[link->event_count];
   e->time_ns = time_ns;
@@ -71,14 +73,22 @@ void mcu_fatal(const char *format, ...) {
 }
 
 /* main() returned or exit() was called: tell the simulator at once rather than let it find the
- * process gone at its next check. */
+ * process gone at its next check. Destructors may still call the HAL after this; from now on it
+ * neither hands over nor reports, so they cannot wait for a turn that never comes. */
 static void at_exit(void) {
+  /* Later calls work on a private copy, so the report keeps the clock and the call at exit. */
+  static struct sear_link after_exit;
   struct sear_link *link = sear_mcu.link;
+  after_exit = *link;
+  sear_mcu.link = &after_exit;
+  sear_mcu.exiting = 1;
   link->request = SEAR_REQUEST_EXIT;
   sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
 }
 
-__attribute__((constructor)) static void attach(void) {
+/* Before the firmware's own constructors (which run at the default priority), so that one that
+ * calls the HAL finds it ready. */
+__attribute__((constructor(101))) static void attach(void) {
   const char *fd_text = getenv(SEAR_LINK_FD_ENV);
   if (!fd_text) {
     fprintf(stderr, "This firmware was built for the SEAR simulator: run it through a project, "
@@ -103,7 +113,10 @@ __attribute__((constructor)) static void attach(void) {
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) sear_mcu.driven[pin] = MCU_FLOATING;
   for (uint32_t i = 0; i < link->input_count; ++i)
     gp2d15_init(&sear_mcu.rangers[i], link->inputs[i].switch_distance_m, link->inputs[i].hysteresis_m);
-  simulator = getppid();
+  /* Named by the simulator rather than read from getppid(): if the simulator died before this
+   * ran, the parent is already the reaper. */
+  const char *sim_pid = getenv(SEAR_SIM_PID_ENV);
+  simulator = sim_pid ? (pid_t)atol(sim_pid) : getppid();
   atexit(at_exit);
   wait_for_turn();
   take_quantum();

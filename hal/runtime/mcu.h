@@ -37,6 +37,10 @@ struct mcu_uart {
   uint8_t handler_bytes[HAL_UART_BUFFER]; /* received, waiting for their interrupt */
   uint8_t handler_head;
   uint8_t handler_count;
+  /* While interrupts are held off, received bytes wait in the USART's own two-byte FIFO, as on
+   * the chip; a third is an overrun. The RX interrupt moves them on once it can run. */
+  uint8_t fifo[2];
+  uint8_t fifo_count;
 };
 
 struct mcu {
@@ -45,6 +49,7 @@ struct mcu {
   int64_t next_due_ns; /* the earliest time anything needs the slow path */
   int irq_enabled;
   int in_isr;
+  int exiting; /* after exit(): the HAL keeps answering but no longer hands over */
 
   uint32_t sample_next; /* into link->samples for the current quantum */
   double analog_v[SEAR_LINK_ADC_CHANNELS];

@@ -9,6 +9,7 @@ static void make_output(uint8_t pin, int64_t now) {
   if (sear_mcu.mode[pin] == OUTPUT) return;
   sear_mcu.mode[pin] = OUTPUT;
   mcu_emit(SEAR_EVENT_PIN_MODE, pin, OUTPUT, now);
+  mcu_emit(SEAR_EVENT_PIN, pin, sear_mcu.latch[pin], now);
 }
 
 void pwm_write(uint8_t pin, uint8_t duty) {

@@ -27,7 +27,7 @@ static int64_t earliest_input(void) {
 static int interrupt_pending(void) {
   if (sear_mcu.timer_pending) return 1;
   for (int port = 0; port < SEAR_LINK_UARTS; ++port)
-    if (sear_mcu.uart[port].handler_count) return 1;
+    if (sear_mcu.uart[port].handler_count || sear_mcu.uart[port].fifo_count) return 1;
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin)
     if (sear_mcu.pin_pending[pin]) return 1;
   return 0;
@@ -60,21 +60,32 @@ static void apply_sample(const struct sear_link_sample *s) {
   }
 }
 
+/* What the chip's RX interrupt does with a byte: hand it to the attached handler (later, in
+ * vector order) or put it in the receive ring. */
+static void receive(struct mcu_uart *u, uint8_t byte) {
+  if (u->rx_handler) {
+    if (u->handler_count < HAL_UART_BUFFER)
+      u->handler_bytes[(uint8_t)(u->handler_head + u->handler_count++) % HAL_UART_BUFFER] = byte;
+    else
+      u->rx_overruns++;
+  } else if (u->rx_count < HAL_UART_BUFFER) {
+    u->rx[(uint8_t)(u->rx_head + u->rx_count++) % HAL_UART_BUFFER] = byte;
+  } else {
+    u->rx_overruns++;
+  }
+}
+
 static void take_arrival(struct mcu_uart *u, uint8_t port) {
   const struct mcu_arrival a = u->arrivals[u->arrival_head];
   u->arrival_head = (u->arrival_head + 1) % MCU_ARRIVALS;
   u->arrival_count--;
   mcu_emit(SEAR_EVENT_UART_RX, port, a.byte, a.time_ns);
-  if (u->rx_handler) {
-    if (u->handler_count < HAL_UART_BUFFER)
-      u->handler_bytes[(uint8_t)(u->handler_head + u->handler_count++) % HAL_UART_BUFFER] = a.byte;
-    else
-      u->rx_overruns++;
-  } else if (u->rx_count < HAL_UART_BUFFER) {
-    u->rx[(uint8_t)(u->rx_head + u->rx_count++) % HAL_UART_BUFFER] = a.byte;
-  } else {
-    u->rx_overruns++;
+  if (!sear_mcu.irq_enabled || sear_mcu.in_isr) {
+    if (u->fifo_count < sizeof u->fifo) u->fifo[u->fifo_count++] = a.byte;
+    else u->rx_overruns++;
+    return;
   }
+  receive(u, a.byte);
 }
 
 /* Applies every sample, byte and timer tick due by `now`, oldest first. */
@@ -111,10 +122,13 @@ static void apply_due(int64_t now) {
   }
 }
 
+/* Interrupts are off while a handler runs and on again after it, whatever it did with them, as
+ * the chip's RETI sets the I flag. */
 static void run_isr(irq_handler handler) {
   sear_mcu.in_isr = 1;
   handler();
   sear_mcu.in_isr = 0;
+  sear_mcu.irq_enabled = 1;
 }
 
 /* In the chip's vector order: external and pin-change interrupts, then the timer, then UARTs. */
@@ -133,6 +147,11 @@ static int deliver_one(void) {
   }
   for (int port = 0; port < SEAR_LINK_UARTS; ++port) {
     struct mcu_uart *u = &sear_mcu.uart[port];
+    if (u->fifo_count) {
+      for (uint8_t i = 0; i < u->fifo_count; ++i) receive(u, u->fifo[i]);
+      u->fifo_count = 0;
+      return 1;
+    }
     if (u->handler_count) {
       const uint8_t byte = u->handler_bytes[u->handler_head];
       u->handler_head = (uint8_t)((u->handler_head + 1) % HAL_UART_BUFFER);
@@ -141,6 +160,9 @@ static int deliver_one(void) {
         sear_mcu.in_isr = 1;
         u->rx_handler(byte);
         sear_mcu.in_isr = 0;
+        sear_mcu.irq_enabled = 1;
+      } else {
+        receive(u, byte); /* the handler was detached meanwhile: the ring takes it */
       }
       return 1;
     }
@@ -150,6 +172,7 @@ static int deliver_one(void) {
 
 void mcu_service(void) {
   struct sear_link *link = sear_mcu.link;
+  if (sear_mcu.exiting) return;
   for (;;) {
     apply_due(link->clock_ns < link->quantum_end_ns ? link->clock_ns : link->quantum_end_ns - 1);
     if (link->clock_ns >= link->quantum_end_ns) {
@@ -163,6 +186,10 @@ void mcu_service(void) {
 
 void mcu_advance_to(int64_t t_ns) {
   struct sear_link *link = sear_mcu.link;
+  if (sear_mcu.exiting) {
+    if (t_ns > link->clock_ns) link->clock_ns = t_ns;
+    return;
+  }
   for (;;) {
     mcu_service();
     if (link->clock_ns >= t_ns) return;

@@ -42,10 +42,17 @@ static void send(uint8_t port, struct mcu_uart *u, uint8_t byte, int64_t now) {
     u->anchor_ns = now;
     u->burst = 0;
   }
-  /* The buffer holds HAL_UART_BUFFER bytes not yet on the wire: wait for one to leave. */
-  if (u->burst >= HAL_UART_BUFFER) {
-    const int64_t room_at = burst_end(u, u->burst - HAL_UART_BUFFER + 1);
+  /* As on the chip: the byte being shifted out, one waiting in the data register and the 64 in
+   * the ring. With all of them taken, the write waits for the oldest to leave. */
+  if (u->burst >= HAL_UART_BUFFER + 2) {
+    const int64_t room_at = burst_end(u, u->burst - HAL_UART_BUFFER - 1);
     if (room_at > sear_mcu.link->clock_ns) mcu_advance_to(room_at);
+  }
+  /* Every `baud` bytes of a burst take exactly 10 s: moving the anchor by that keeps the
+   * arithmetic in burst_end() far from overflow in long runs without changing any time. */
+  if (u->burst >= (uint64_t)u->baud + HAL_UART_BUFFER + 2) {
+    u->anchor_ns += 10000000000;
+    u->burst -= u->baud;
   }
   const int64_t end = burst_end(u, ++u->burst);
   u->last_end_ns = end;

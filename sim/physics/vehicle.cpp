@@ -213,6 +213,14 @@ void Vehicle::apply_actuators(double dt_s) {
 
   for (std::size_t s = 0; s < desc_.servos.size(); ++s) {
     const ServoDesc& servo = desc_.servos[s];
+    if (servo_pulses_[s] <= 0) {
+      // Without pulses a hobby servo's driver is off: its output turns freely.
+      for (std::size_t w : servo_wheels_[s]) {
+        if (servo.kind == ServoDesc::Kind::Continuous) dJointSetHingeParam(wheels_[w].joint, dParamFMax, 0);
+        else dJointSetHinge2Param(wheels_[w].joint, dParamFMax, 0);
+      }
+      continue;
+    }
     if (servo.kind == ServoDesc::Kind::Continuous) {
       const double speed = servo_target_speed(servo, servo_pulses_[s]);
       for (std::size_t w : servo_wheels_[s]) {

@@ -36,6 +36,7 @@ class Vehicle {
   int motor_index(const std::string& name) const;  // -1 when there is none
   int servo_index(const std::string& name) const;
   void command_motor(std::size_t motor, const DcMotorCommand& command) { motor_commands_[motor] = command; }
+  // pulse_us 0: no pulses, the servo's output turns freely.
   void command_servo(std::size_t servo, double pulse_us) { servo_pulses_[servo] = pulse_us; }
   const DcMotorCommand& motor_command(std::size_t motor) const { return motor_commands_[motor]; }
   double servo_pulse(std::size_t servo) const { return servo_pulses_[servo]; }

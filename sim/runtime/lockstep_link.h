@@ -10,6 +10,8 @@
 #define SEAR_LINK_VERSION 1u
 /* The simulator passes the page to the firmware as an inherited file descriptor named here. */
 #define SEAR_LINK_FD_ENV "SEAR_LINK_FD"
+/* ... and names itself, so that a firmware outliving it can tell. */
+#define SEAR_SIM_PID_ENV "SEAR_SIM_PID"
 
 #define SEAR_LINK_PINS 70
 #define SEAR_LINK_ADC_CHANNELS 16

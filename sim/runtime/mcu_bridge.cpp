@@ -62,6 +62,8 @@ void McuBridge::setup_link(sear_link& link, const void* context) {
   link.hal_call_cost_ns = std::llround(d.hal_call_cycles * 1e9 / d.clock_hz);
   link.avcc_v = d.avcc_v;
   link.aref_v = d.aref_v;
+  if (d.rangers.size() + d.bumps.size() > SEAR_LINK_MAX_INPUTS)  // the loader already said where
+    throw std::runtime_error(fmt::format("mcu {}: more than {} inputs", self.id_, SEAR_LINK_MAX_INPUTS));
   std::uint32_t n = 0;
   for (const auto& s : d.rangers) {
     sear_link_input& in = link.inputs[n];
@@ -78,7 +80,6 @@ void McuBridge::setup_link(sear_link& link, const void* context) {
     link.inputs[n].target = static_cast<std::uint32_t>(b.pin);
     ++n;
   }
-  if (n > SEAR_LINK_MAX_INPUTS) throw std::runtime_error(fmt::format("mcu {}: more than {} inputs", self.id_, SEAR_LINK_MAX_INPUTS));
   link.input_count = n;
   for (const auto& u : d.uarts)
     if (u.loopback) link.uart_loopback_mask |= 1u << u.port;
@@ -123,7 +124,9 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
 
 void McuBridge::drain(std::size_t index, McuListener& listener) {
   sear_link& link = process_->link();
-  const std::uint32_t n = __atomic_load_n(&link.event_count, __ATOMIC_ACQUIRE);
+  // The firmware owns this memory: a count it scribbled over must not take the simulator down.
+  const std::uint32_t n = std::min<std::uint32_t>(__atomic_load_n(&link.event_count, __ATOMIC_ACQUIRE),
+                                                  SEAR_LINK_MAX_EVENTS);
   for (std::uint32_t i = 0; i < n; ++i) {
     const sear_event& e = link.events[i];
     if (e.index < SEAR_LINK_PINS) {
@@ -163,10 +166,8 @@ void McuBridge::command_actuators() {
     }
     vehicle_.command_motor(static_cast<std::size_t>(motor), c);
   }
-  for (const auto& s : desc_.servos) {
-    const int pulse = s.pin >= 0 ? servo_pulse_us_[s.pin] : 0;
-    if (pulse > 0) vehicle_.command_servo(static_cast<std::size_t>(vehicle_.servo_index(s.servo)), pulse);
-  }
+  for (const auto& s : desc_.servos)  // 0: no pulses, so the servo does not hold
+    vehicle_.command_servo(static_cast<std::size_t>(vehicle_.servo_index(s.servo)), servo_pulse_us_[s.pin]);
 }
 
 bool McuBridge::finish_quantum(std::size_t index, McuListener& listener) {
@@ -189,6 +190,7 @@ bool McuBridge::finish_quantum(std::size_t index, McuListener& listener) {
 void McuBridge::release_actuators() {
   for (const auto& m : desc_.motors)
     vehicle_.command_motor(static_cast<std::size_t>(vehicle_.motor_index(m.motor)), {0, MotorDirection::Coast});
+  for (const auto& s : desc_.servos) vehicle_.command_servo(static_cast<std::size_t>(vehicle_.servo_index(s.servo)), 0);
 }
 
 }  // namespace sear

@@ -66,10 +66,19 @@ McuProcess::McuProcess(const std::string& executable, const std::string& host_lo
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, host_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   posix_spawn_file_actions_addclose(&actions, STDIN_FILENO);
+  // The link as descriptor 3, and nothing else of ours: not the run's output files, nor the
+  // other MCUs' links, which a stray write could otherwise corrupt.
+  constexpr int kLinkFd = 3;
+  posix_spawn_file_actions_adddup2(&actions, fd_, kLinkFd);
+  posix_spawn_file_actions_addclosefrom_np(&actions, kLinkFd + 1);
   std::vector<std::string> env_text;
+  const auto ours = [](const char* entry, const char* name) {
+    return std::strncmp(entry, name, std::strlen(name)) == 0 && entry[std::strlen(name)] == '=';
+  };
   for (char** e = environ; *e; ++e)
-    if (std::strncmp(*e, SEAR_LINK_FD_ENV "=", std::strlen(SEAR_LINK_FD_ENV) + 1) != 0) env_text.emplace_back(*e);
-  env_text.push_back(fmt::format("{}={}", SEAR_LINK_FD_ENV, fd_));
+    if (!ours(*e, SEAR_LINK_FD_ENV) && !ours(*e, SEAR_SIM_PID_ENV)) env_text.emplace_back(*e);
+  env_text.push_back(fmt::format("{}={}", SEAR_LINK_FD_ENV, kLinkFd));
+  env_text.push_back(fmt::format("{}={}", SEAR_SIM_PID_ENV, getpid()));
   std::vector<char*> env;
   for (auto& e : env_text) env.push_back(e.data());
   env.push_back(nullptr);
@@ -137,6 +146,27 @@ void McuProcess::stop(McuFailure failure) {
   }
 }
 
+// Its destructors and atexit handlers still run; they get the hang timeout to finish.
+McuProcess::Turn McuProcess::await_exit() {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration<double>(hang_timeout_s_);
+  for (;;) {
+    int status = 0;
+    if (waitpid(pid_, &status, WNOHANG) == pid_) {
+      pid_ = -1;
+      failure_ = failure_from_status(status);
+      return Turn::Stopped;
+    }
+    if (Clock::now() > deadline) {
+      McuFailure f = failure_now(McuFailure::Kind::Hung);
+      f.detail = fmt::format("it called exit() but was still running {:g} s of host time later; stopped", hang_timeout_s_);
+      stop(f);
+      return Turn::Stopped;
+    }
+    usleep(1000);
+  }
+}
+
 McuProcess::Turn McuProcess::wait() {
   if (failure_) return Turn::Stopped;
   using Clock = std::chrono::steady_clock;
@@ -153,11 +183,13 @@ McuProcess::Turn McuProcess::wait() {
           stop(f);
           return Turn::Stopped;
         }
-        default: {  // main() returned or exit() was called: its status follows at once
-          int status = 0;
-          waitpid(pid_, &status, 0);
-          pid_ = -1;
-          failure_ = failure_from_status(status);
+        case SEAR_REQUEST_EXIT:  // main() returned or exit() was called: its status follows
+          return await_exit();
+        default: {
+          McuFailure f = failure_now(McuFailure::Kind::Refused);
+          f.detail = fmt::format("it broke the lockstep protocol (request {}); did it write over the HAL's memory?",
+                                 link_->request);
+          stop(f);
           return Turn::Stopped;
         }
       }

@@ -50,6 +50,7 @@ class McuProcess {
 
  private:
   void stop(McuFailure failure);
+  Turn await_exit();
   McuFailure failure_from_status(int status) const;
   McuFailure failure_now(McuFailure::Kind kind) const;
 

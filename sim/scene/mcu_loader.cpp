@@ -203,6 +203,10 @@ void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics) {
       use(pin_use, "pin", s.pin, s.source, "servo " + s.servo);
     }
     for (const auto& u : mcu.uarts) use(port_use, "UART port", u.port, u.source, "a <uart>");
+    constexpr std::size_t kMaxInputs = 32;  // SEAR_LINK_MAX_INPUTS: sensors the link carries per MCU
+    if (mcu.rangers.size() + mcu.bumps.size() > kMaxInputs)
+      fail(mcu.source, fmt::format("mcu '{}' has {} sensors; an MCU takes at most {}", mcu.name,
+                                   mcu.rangers.size() + mcu.bumps.size(), kMaxInputs));
   }
 }
 

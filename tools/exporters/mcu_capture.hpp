@@ -40,7 +40,7 @@ class McuCapture : public McuListener {
     File console, pins;
     std::string line;
     std::int64_t line_time = 0;  // of the console's last byte
-    std::int64_t last_pin_time = -1;
+    std::int64_t last_pin_time = 0;  // the header's initial values are at #0
     std::map<int, PortFiles> ports;
   };
   File open(const std::string& name);
