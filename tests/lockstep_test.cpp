@@ -94,6 +94,31 @@ TEST(Lockstep, PinsAndInterruptsBehaveAsOnTheChip) {
   EXPECT_DOUBLE_EQ(std::stod(cell), 1.0) << header << "\n" << rows.back();
 }
 
+TEST(Lockstep, LoopsWaitingForAnInterruptWithoutHalCallsEndWhenItFires) {
+  // The rover drives into a wall on a script; its bump switch closes there.
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(std::string(R"(    <script>
+      <motor t="0" name="left" duty="0.5"/>
+      <motor t="0" name="right" duty="0.5"/>
+    </script>
+    <mcu name="main">
+      <firmware executable=")") + WAIT_PROBE + R"("/>
+      <bump name="bumper" pin="2" pos="0.14 0 -0.01" width="0.18" reach="0.02"/>
+    </mcu>
+)", "    <wall name=\"w\" from=\"0.6 -1\" to=\"0.6 1\" height=\"0.4\"/>\n", 3.0));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string console = run.file("rover.main.console.log");
+  // Each wait ends at the tick that set the flag: the timer started at 6.25 us, after two calls.
+  EXPECT_NE(console.find("waits ended at 100006 200006 300006 400006 500006 us"), std::string::npos) << console;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(console, m, std::regex("bumped at (\\d+) us"))) << console;
+  // The wall's face is 0.53 m ahead of the lever's reach at about 0.35 m/s.
+  EXPECT_GT(std::stol(m[1]), 1000000);
+  EXPECT_LT(std::stol(m[1]), 2500000);
+  // The switch is read at the start of each 1 ms quantum, and the wait ends right then.
+  EXPECT_EQ(std::stol(m[1]) % 1000, 0) << m[1];
+}
+
 class SerialProbe : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {

@@ -30,9 +30,11 @@ static void wait_for_turn(void) {
 static void hand_over(enum sear_request request) {
   struct sear_link *link = sear_mcu.link;
   if (sear_mcu.exiting) return; /* the simulator has let go of this MCU */
+  sear_mcu.slow_path++;
   link->request = (uint32_t)request;
   sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
   wait_for_turn();
+  sear_mcu.slow_path--;
 }
 
 /* Bytes the simulator queued for this quantum join each port's arrivals, still in time order. */
@@ -121,4 +123,5 @@ __attribute__((constructor(101))) static void attach(void) {
   wait_for_turn();
   take_quantum();
   mcu_reschedule();
+  mcu_watch_idle_loops();
 }

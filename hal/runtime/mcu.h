@@ -50,6 +50,9 @@ struct mcu {
   int irq_enabled;
   int in_isr;
   int exiting; /* after exit(): the HAL keeps answering but no longer hands over */
+  /* Read by the idle-loop check's signal handler (idle.c), hence volatile. */
+  volatile int slow_path;          /* inside mcu_service() or a hand-over, which may take a while */
+  volatile uint64_t handlers_run;  /* interrupt handlers run so far */
 
   uint32_t sample_next; /* into link->samples for the current quantum */
   double analog_v[SEAR_LINK_ADC_CHANNELS];
@@ -101,6 +104,12 @@ void mcu_advance_to(int64_t t_ns);
 
 /* Recomputes next_due_ns after anything that changed what is pending. */
 void mcu_reschedule(void);
+
+/* The earliest sample, received byte or timer tick still to come. */
+int64_t mcu_earliest_input(void);
+
+/* Starts the check for loops that wait for an interrupt without calling the HAL (idle.c). */
+void mcu_watch_idle_loops(void);
 
 void mcu_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns);
 

@@ -125,6 +125,7 @@ static void apply_due(int64_t now) {
 /* Interrupts are off while a handler runs and on again after it, whatever it did with them, as
  * the chip's RETI sets the I flag. */
 static void run_isr(irq_handler handler) {
+  sear_mcu.handlers_run++;
   sear_mcu.in_isr = 1;
   handler();
   sear_mcu.in_isr = 0;
@@ -157,6 +158,7 @@ static int deliver_one(void) {
       u->handler_head = (uint8_t)((u->handler_head + 1) % HAL_UART_BUFFER);
       u->handler_count--;
       if (u->rx_handler) {
+        sear_mcu.handlers_run++;
         sear_mcu.in_isr = 1;
         u->rx_handler(byte);
         sear_mcu.in_isr = 0;
@@ -170,9 +172,12 @@ static int deliver_one(void) {
   return 0;
 }
 
+int64_t mcu_earliest_input(void) { return earliest_input(); }
+
 void mcu_service(void) {
   struct sear_link *link = sear_mcu.link;
   if (sear_mcu.exiting) return;
+  sear_mcu.slow_path++;
   for (;;) {
     apply_due(link->clock_ns < link->quantum_end_ns ? link->clock_ns : link->quantum_end_ns - 1);
     if (link->clock_ns >= link->quantum_end_ns) {
@@ -182,6 +187,7 @@ void mcu_service(void) {
     if (!(sear_mcu.irq_enabled && !sear_mcu.in_isr && deliver_one())) break;
   }
   mcu_reschedule();
+  sear_mcu.slow_path--;
 }
 
 void mcu_advance_to(int64_t t_ns) {
@@ -190,12 +196,14 @@ void mcu_advance_to(int64_t t_ns) {
     if (t_ns > link->clock_ns) link->clock_ns = t_ns;
     return;
   }
+  sear_mcu.slow_path++;
   for (;;) {
     mcu_service();
-    if (link->clock_ns >= t_ns) return;
+    if (link->clock_ns >= t_ns) break;
     int64_t next = earliest_input();
     if (t_ns < next) next = t_ns;
     if (next > link->quantum_end_ns) next = link->quantum_end_ns;
     if (next > link->clock_ns) link->clock_ns = next;
   }
+  sear_mcu.slow_path--;
 }
