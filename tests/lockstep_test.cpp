@@ -169,6 +169,30 @@ TEST_F(SerialProbe, BytesAt9600BaudAre1Point0417msApartAndArriveOnTheLoopedBackR
   EXPECT_NE(run_->file("rover.a.console.log").find("rx 5: HELLO"), std::string::npos);
 }
 
+TEST(Lockstep, APortReceivesACapturedByteStreamAtItsTimes) {
+  TempDir dir;
+  // Another device's capture: "WORLD" sent at 115200 baud from 254 ms on, while the probe listens.
+  std::string capture = "# SEAR UART capture: mcu other.main, port 2, 8N1\n";
+  const char* word = "WORLD";
+  for (int i = 0; i < 5; ++i) {
+    char line[64];
+    std::snprintf(line, sizeof line, "0.%09d tx %02x\n0.%09d rx 00\n", 254000000 + i * 86806, word[i],
+                  254000000 + i * 86806);
+    capture += line;
+  }
+  dir.write("other.uart2.log", capture);
+  const auto run = run_sear(dir, rover_project(std::string(R"(    <mcu name="main">
+      <firmware executable=")") + SERIAL_PROBE + R"("/>
+      <uart port="1" receive="other.uart2.log"/>
+    </mcu>
+)"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.file("rover.main.console.log").find("rx 5: WORLD"), std::string::npos) << run.file("rover.main.console.log");
+  EXPECT_EQ(run.file("rover.main.uart1.rx.bin"), "WORLD");
+  // Received at the capture's times, to the nanosecond.
+  EXPECT_NE(run.file("rover.main.uart1.log").find("0.254260418 rx 4c\n"), std::string::npos) << run.file("rover.main.uart1.log");
+}
+
 TEST_F(SerialProbe, TwoMcusRunningOneFirmwareKeepTheirOwnGlobals) {
   ASSERT_EQ(run_->exit_code, 0) << run_->err;
   for (const char* mcu : {"rover.a.console.log", "rover.b.console.log"}) {

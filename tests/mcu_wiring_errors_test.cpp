@@ -100,6 +100,23 @@ TEST(McuWiringErrors, AMotorCannotBeDrivenByBothAScriptAndAnMcu) {
   EXPECT_TRUE(says(l, 7, {"'left' is driven by both the robot's <script> and mcu 'main'"}));
 }
 
+TEST(McuWiringErrors, AReceivedCaptureMustBeOneThatSearWrites) {
+  TempDir dir;
+  const std::string capture = dir.write("bad.log", "# a capture\n0.001 tx 41\n0.002 sent 42\n0.003 tx 4g\n");
+  const Loaded l = load(dir, project_with(kFirmware + "      <uart port=\"1\" receive=\"bad.log\"/>\n"));
+  const auto at = [&](int line, const char* part) {
+    return std::any_of(l.diagnostics.all().begin(), l.diagnostics.all().end(), [&](const Diagnostic& d) {
+      return d.file == capture && d.line == line && d.message.find(part) != std::string::npos;
+    });
+  };
+  EXPECT_TRUE(at(3, "expected 'time_s direction value'")) << l.diagnostics.joined();
+  EXPECT_TRUE(at(4, "'4g' is not a byte in hex")) << l.diagnostics.joined();
+  EXPECT_TRUE(says(load(dir, project_with(kFirmware + "      <uart port=\"1\" loopback=\"true\" receive=\"bad.log\"/>\n")), 6,
+                   {"loopback", "not both"}));
+  EXPECT_TRUE(says(load(dir, project_with(kFirmware + "      <uart port=\"1\" receive=\"none.log\"/>\n")), 6,
+                   {"UART capture 'none.log' not found"}));
+}
+
 TEST(McuWiringErrors, AnMcuTakesAtMost32Sensors) {
   std::string bumps;
   for (int pin = 22; pin < 22 + 33; ++pin)

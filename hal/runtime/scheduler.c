@@ -79,6 +79,7 @@ static void take_arrival(struct mcu_uart *u, uint8_t port) {
   const struct mcu_arrival a = u->arrivals[u->arrival_head];
   u->arrival_head = (u->arrival_head + 1) % MCU_ARRIVALS;
   u->arrival_count--;
+  if (!u->baud) return; /* the receiver is off until uart_begin(), as on the chip */
   mcu_emit(SEAR_EVENT_UART_RX, port, a.byte, a.time_ns);
   if (!sear_mcu.irq_enabled || sear_mcu.in_isr) {
     if (u->fifo_count < sizeof u->fifo) u->fifo[u->fifo_count++] = a.byte;

@@ -53,6 +53,7 @@ McuBridge::McuBridge(const McuDesc& desc, std::string id, Vehicle& vehicle, std:
     ranger_period_ns_.push_back(std::llround(s.period_s * 1e9));
   }
   for (const auto& b : desc_.bumps) bumps_.push_back(lever_rays(b));
+  receive_next_.assign(desc_.uarts.size(), 0);
   process_ = std::make_unique<McuProcess>(desc_.firmware_executable, host_log, hang_timeout_s, &McuBridge::setup_link, this);
 }
 
@@ -119,6 +120,17 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
   }
   std::stable_sort(link.samples, link.samples + link.sample_count,
                    [](const sear_link_sample& a, const sear_link_sample& b) { return a.time_ns < b.time_ns; });
+  // Captured bytes due in this quantum; more than a quantum carries wait for the next one.
+  for (std::size_t u = 0; u < desc_.uarts.size(); ++u) {
+    const auto& bytes = desc_.uarts[u].receive;
+    std::size_t& next = receive_next_[u];
+    for (; next < bytes.size() && bytes[next].time_ns < t1 && link.rx_count < SEAR_LINK_MAX_RX; ++next) {
+      sear_link_rx& rx = link.rx[link.rx_count++];
+      rx.time_ns = bytes[next].time_ns;
+      rx.port = static_cast<std::uint8_t>(desc_.uarts[u].port);
+      rx.byte = bytes[next].byte;
+    }
+  }
   process_->start_quantum(t1);
 }
 

@@ -59,6 +59,7 @@ class McuBridge {
   std::array<int, SEAR_LINK_PINS> pin_drive_{};
   std::array<bool, SEAR_LINK_PINS> pin_output_{};
   std::array<int, SEAR_LINK_PINS> servo_pulse_us_{};
+  std::vector<std::size_t> receive_next_;  // per desc_.uarts entry: the next captured byte to send
 };
 
 }  // namespace sear

@@ -229,10 +229,17 @@ struct ServoWiring {
   int pin = -1;
 };
 
+// A byte on a serial line, stamped with the end of its stop bit.
+struct TimedByte {
+  std::int64_t time_ns;
+  std::uint8_t byte;
+};
+
 struct UartDesc {
   int port = 0;
   SourceRef source;
-  bool loopback = false;  // TX wired to RX, as with a jumper on the bench
+  bool loopback = false;            // TX wired to RX, as with a jumper on the bench
+  std::vector<TimedByte> receive;   // bytes that arrive on RX at their times, from a capture
 };
 
 // A microcontroller on the robot: its firmware, clock, supply and everything wired to it.

@@ -9,6 +9,7 @@
 
 #include "scene/loader_parts.hpp"
 #include "scene/nearest_name.hpp"
+#include "scene/uart_capture.hpp"
 
 namespace sear {
 namespace {
@@ -141,6 +142,14 @@ void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diag
                  u.source = {file, c.line()};
                  u.port = read_index(c, "port", kUartPort, true);
                  u.loopback = c.choice("loopback", {"false", "true"}, 0) == 1;
+                 if (c.has("receive")) {
+                   const std::string capture = c.text("receive", "");
+                   const std::string path = path_beside(file, capture);
+                   if (u.loopback) c.error("<uart> receives from its own TX (loopback) or from 'receive', not both");
+                   else if (!std::filesystem::exists(path))
+                     c.error(fmt::format("UART capture '{}' not found (looked for {})", capture, path));
+                   else u.receive = read_uart_capture(path, diagnostics);
+                 }
                  c.finish();
                  mcu.uarts.push_back(u);
                }
