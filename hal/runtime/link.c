@@ -69,6 +69,7 @@ void mcu_fatal(const char *format, ...) {
   va_start(args, format);
   vsnprintf(link->fatal, sizeof link->fatal, format, args);
   va_end(args);
+  if (sear_mcu.exiting) fprintf(stderr, "sear: after exit(): %s\n", link->fatal); /* nobody reads the link now */
   link->request = SEAR_REQUEST_FATAL;
   sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
   _exit(70);

@@ -86,6 +86,9 @@ static void take_arrival(struct mcu_uart *u, uint8_t port) {
     else u->rx_overruns++;
     return;
   }
+  /* Older bytes still in the FIFO go first, as the chip reads them out in order. */
+  for (uint8_t i = 0; i < u->fifo_count; ++i) receive(u, u->fifo[i]);
+  u->fifo_count = 0;
   receive(u, a.byte);
 }
 

@@ -19,9 +19,10 @@ void uart_begin(uint8_t port, uint32_t baud) {
   struct mcu_uart *u = port_of(port, "uart_begin");
   if (baud < 300 || baud > 2000000) mcu_fatal("uart_begin(%u, %lu): baud must be 300..2000000", port, (unsigned long)baud);
   u->baud = baud;
-  u->anchor_ns = now;
+  /* Bytes still on their way out keep their times; the new rate starts after the last of them. */
+  u->anchor_ns = u->last_end_ns > now ? u->last_end_ns : now;
   u->burst = 0;
-  u->last_end_ns = now;
+  u->last_end_ns = u->anchor_ns;
   mcu_emit(SEAR_EVENT_UART_BEGIN, port, baud, now);
 }
 

@@ -18,7 +18,7 @@
 #define SEAR_LINK_UARTS 4
 #define SEAR_LINK_MAX_INPUTS 32
 #define SEAR_LINK_MAX_SAMPLES 256
-#define SEAR_LINK_MAX_RX 256
+#define SEAR_LINK_MAX_RX 8192 /* 10 ms (the longest step) at 2 Mbaud on all four ports */
 #define SEAR_LINK_MAX_EVENTS 2048
 
 /* Every HAL entry point, so a report can name the last one a firmware called. */

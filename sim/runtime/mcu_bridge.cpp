@@ -120,7 +120,7 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
   }
   std::stable_sort(link.samples, link.samples + link.sample_count,
                    [](const sear_link_sample& a, const sear_link_sample& b) { return a.time_ns < b.time_ns; });
-  // Captured bytes due in this quantum; more than a quantum carries wait for the next one.
+  // Captured bytes due in this quantum (the link holds the most any step can bring).
   for (std::size_t u = 0; u < desc_.uarts.size(); ++u) {
     const auto& bytes = desc_.uarts[u].receive;
     std::size_t& next = receive_next_[u];

@@ -187,6 +187,8 @@ void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics) {
     for (const auto& s : mcu.rangers) {
       part(s.source, s.name);
       use(channel_use, "ADC channel", s.adc_channel, s.source, s.name);
+      // ADC channel n is pin A<n> (54 + n): one pin, whichever way it is named.
+      if (s.adc_channel >= 0) use(pin_use, "pin", 54 + s.adc_channel, s.source, s.name);
       use(pin_use, "pin", s.pin, s.source, s.name);
     }
     for (const auto& b : mcu.bumps) {

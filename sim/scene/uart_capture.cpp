@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <sstream>
@@ -33,6 +34,7 @@ std::vector<TimedByte> read_uart_capture(const std::string& path, Diagnostics& d
   }
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // written on Windows
     if (line.empty() || line[0] == '#') continue;
     std::istringstream fields(line);
     std::string time, direction, value, extra;
@@ -44,14 +46,10 @@ std::vector<TimedByte> read_uart_capture(const std::string& path, Diagnostics& d
       continue;
     }
     if (direction != "tx") continue;
-    unsigned byte = 0;
-    std::size_t used = 0;
-    try {
-      byte = static_cast<unsigned>(std::stoul(value, &used, 16));
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != value.size() || value.size() > 2) {
+    const bool hex = !value.empty() && value.size() <= 2 &&
+                     std::all_of(value.begin(), value.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); });
+    const unsigned byte = hex ? static_cast<unsigned>(std::stoul(value, nullptr, 16)) : 0;
+    if (!hex) {
       diagnostics.error(path, number, fmt::format("'{}' is not a byte in hex (00..ff)", value));
       continue;
     }
