@@ -1,6 +1,6 @@
 /* A firmware waiting for an interrupt in a loop that makes no HAL call, such as
  * `while (!flag) {}` with `flag` set by a handler: its clock would never move, so the interrupt
- * would never come. A timer signal looks at the interrupted loop every 250 us: when four looks in
+ * would never come. A timer signal looks at the interrupted loop every 500 us: when four looks in
  * a row, with the process running in between, find no HAL call and the same registers at the same
  * place, the loop changes nothing and can only be waiting, so time moves on to the next interrupt, as the chip would spin until it. A loop
  * that computes changes its registers, so it is never taken for one that waits. */
@@ -14,7 +14,7 @@
 
 #include "mcu.h"
 
-#define CHECK_EVERY_NS 250000
+#define CHECK_EVERY_NS 500000
 /* Looks in a row that must agree. One pair can agree by accident of scheduling; four running
  * ones that find the loop at the same step cannot, while it computes. */
 #define LOOKS_AGREEING 4
@@ -107,6 +107,9 @@ static void on_check(int signal_number, siginfo_t *info, void *context) {
 }
 
 void mcu_watch_idle_loops(void) {
+  static int watching;
+  if (watching) return;
+  watching = 1;
   struct sigaction action;
   memset(&action, 0, sizeof action);
   action.sa_sigaction = on_check;

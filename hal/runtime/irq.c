@@ -14,6 +14,7 @@ void irq_attach_pin(uint8_t pin, uint8_t edge, irq_handler handler) {
   if (edge < IRQ_RISING || edge > IRQ_CHANGE) mcu_fatal("irq_attach_pin(%u, %u): edge must be IRQ_RISING, IRQ_FALLING or IRQ_CHANGE", pin, edge);
   sear_mcu.pin_handler[pin] = handler;
   sear_mcu.pin_edges[pin] = edge;
+  mcu_watch_idle_loops();
   sear_mcu.pin_pending[pin] = 0;
 }
 
@@ -29,6 +30,7 @@ void irq_timer_start(uint32_t period_us, irq_handler handler) {
   if (period_us < 16 || period_us > 4194304) mcu_fatal("irq_timer_start(%lu): the period must be 16..4194304 us", (unsigned long)period_us);
   sear_mcu.timer_handler = handler;
   sear_mcu.timer_period_ns = (int64_t)period_us * 1000;
+  mcu_watch_idle_loops();
   sear_mcu.timer_due_ns = now + sear_mcu.timer_period_ns;
   sear_mcu.timer_pending = 0;
   mcu_reschedule();
@@ -45,6 +47,7 @@ void irq_attach_uart_rx(uint8_t port, irq_byte_handler handler) {
   mcu_enter(SEAR_CALL_irq_attach_uart_rx);
   if (port >= HAL_UART_COUNT) mcu_fatal("irq_attach_uart_rx(%u): the ATmega2560 has UARTs 0..3", port);
   sear_mcu.uart[port].rx_handler = handler;
+  mcu_watch_idle_loops();
 }
 
 void irq_disable(void) {

@@ -124,5 +124,4 @@ __attribute__((constructor(101))) static void attach(void) {
   wait_for_turn();
   take_quantum();
   mcu_reschedule();
-  mcu_watch_idle_loops();
 }

@@ -108,7 +108,8 @@ void mcu_reschedule(void);
 /* The earliest sample, received byte or timer tick still to come. */
 int64_t mcu_earliest_input(void);
 
-/* Starts the check for loops that wait for an interrupt without calling the HAL (idle.c). */
+/* Starts the check for loops that wait for an interrupt without calling the HAL (idle.c), once an
+ * interrupt handler is attached: only then can such a loop end. */
 void mcu_watch_idle_loops(void);
 
 void mcu_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns);
