@@ -1,4 +1,4 @@
-/* The shared-memory page between the simulator and one MCU's firmware process: the wiring the
+/* The shared memory between the simulator and one MCU's firmware process: the wiring the
  * firmware's HAL needs, the lockstep hand-off, the sensor samples for the coming quantum, and the
  * time-stamped events the firmware produced. Plain C so that both sides include the one layout. */
 #ifndef SEAR_LOCKSTEP_LINK_H
