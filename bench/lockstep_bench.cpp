@@ -6,34 +6,23 @@
 #include <regex>
 #include <stdexcept>
 
+#include "driving_project.hpp"
 #include "runtime/lockstep.hpp"
-#include "scene/project_loader.hpp"
 
 namespace {
 
 // The default world with its rover driving straight on a script, and `firmware` (if any) on one
 // MCU wired to nothing.
 sear::ProjectDesc bench_project(const char* firmware, double hal_call_cycles) {
-  sear::Diagnostics diagnostics;
-  auto project = sear::load_project(SEAR_DEFAULT_PROJECT, diagnostics);
-  if (!project) throw std::runtime_error(diagnostics.joined());
-  auto& rover = project->robots.at(0);
-  rover.mcus.clear();
-  for (const char* motor : {"left", "right"}) {
-    sear::ScriptCommand c;
-    c.actuator = motor;
-    c.duty = 0.6;
-    c.direction = sear::MotorDirection::Forward;
-    rover.script.push_back(c);
-  }
+  sear::ProjectDesc project = sear::bench::driving_default_project(0.6);
   if (firmware) {
     sear::McuDesc mcu;
     mcu.name = "bench";
     mcu.firmware_executable = firmware;
     mcu.hal_call_cycles = hal_call_cycles;
-    rover.mcus.push_back(mcu);
+    project.robots.at(0).mcus.push_back(mcu);
   }
-  return *project;
+  return project;
 }
 
 struct ConsoleLine : sear::McuListener {

@@ -2,29 +2,16 @@
 // with the real-time factor it implies: sim seconds per wall second for physics alone.
 #include <benchmark/benchmark.h>
 
-#include <stdexcept>
 
+#include "driving_project.hpp"
 #include "runtime/simulation.hpp"
-#include "scene/project_loader.hpp"
 
 namespace {
 
 sear::ProjectDesc default_project(int solver_iterations) {
-  sear::Diagnostics diagnostics;
-  auto project = sear::load_project(SEAR_DEFAULT_PROJECT, diagnostics);
-  if (!project) throw std::runtime_error(diagnostics.joined());
-  if (solver_iterations > 0) project->world.solver_iterations = solver_iterations;
-  // Physics alone: the rover drives on a script instead of its firmware (see lockstep_bench).
-  auto& rover = project->robots.at(0);
-  rover.mcus.clear();
-  for (const char* motor : {"left", "right"}) {
-    sear::ScriptCommand c;
-    c.actuator = motor;
-    c.duty = 0.8;
-    c.direction = sear::MotorDirection::Forward;
-    rover.script.push_back(c);
-  }
-  return *project;
+  sear::ProjectDesc project = sear::bench::driving_default_project(0.8);
+  if (solver_iterations > 0) project.world.solver_iterations = solver_iterations;
+  return project;
 }
 
 // Steps the default project from its start, with the rover driving straight on; the

@@ -37,12 +37,17 @@ std::map<char, std::vector<std::int64_t>> vcd_edges(const std::string& vcd) {
 const char kPin12 = '!' + 12;
 const char kPin13 = '!' + 13;
 
-TEST(Lockstep, EdgesFromDelaysAndTimerInterruptsFallOnExactMultiplesOf10ms) {
-  TempDir dir;
-  const auto run = run_sear(dir, rover_project(std::string(R"(    <mcu name="timer" hal_call_cycles="0">
+// The timer probe with HAL calls that cost nothing, so that only delays and the timer move time.
+std::string timer_probe_project(double duration_s) {
+  return rover_project(std::string(R"(    <mcu name="timer" hal_call_cycles="0">
       <firmware executable=")") + TIMER_PROBE + R"("/>
     </mcu>
-)", "", 2.05));
+)", "", duration_s);
+}
+
+TEST(Lockstep, EdgesFromDelaysAndTimerInterruptsFallOnExactMultiplesOf10ms) {
+  TempDir dir;
+  const auto run = run_sear(dir, timer_probe_project(2.05));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto edges = vcd_edges(run.file("rover.timer.pins.vcd"));
   for (const char pin : {kPin12, kPin13}) {
@@ -56,10 +61,7 @@ TEST(Lockstep, EdgesFromDelaysAndTimerInterruptsFallOnExactMultiplesOf10ms) {
 
 TEST(Lockstep, A1kHzTimerFiresExactly1000TimesPerSimulatedSecond) {
   TempDir dir;
-  const auto run = run_sear(dir, rover_project(std::string(R"(    <mcu name="timer" hal_call_cycles="0">
-      <firmware executable=")") + TIMER_PROBE + R"("/>
-    </mcu>
-)", "", 3.05));
+  const auto run = run_sear(dir, timer_probe_project(3.05));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const std::string console = run.file("rover.timer.console.log");
   // Counted at each whole second, after the tick due at that very moment; the console stamps a

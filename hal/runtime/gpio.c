@@ -18,8 +18,7 @@ uint8_t mcu_pin_level(uint8_t pin) {
   return sear_mcu.latch[pin];
 }
 
-void mcu_set_driven(uint8_t pin, uint8_t level, int64_t time_ns) {
-  (void)time_ns;
+void mcu_set_driven(uint8_t pin, uint8_t level) {
   const uint8_t before = mcu_pin_level(pin);
   sear_mcu.driven[pin] = level;
   const uint8_t after = mcu_pin_level(pin);

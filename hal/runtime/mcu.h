@@ -119,7 +119,7 @@ void mcu_fatal(const char *format, ...) __attribute__((noreturn, format(printf, 
 
 void mcu_check_pin(uint8_t pin, const char *call);
 uint8_t mcu_pin_level(uint8_t pin);
-void mcu_set_driven(uint8_t pin, uint8_t level, int64_t time_ns);
+void mcu_set_driven(uint8_t pin, uint8_t level);
 void mcu_uart_arrive(uint8_t port, uint8_t byte, int64_t time_ns);
 
 #endif

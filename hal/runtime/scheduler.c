@@ -48,12 +48,11 @@ static void apply_sample(const struct sear_link_sample *s) {
       sear_mcu.analog_v[in->target] = gp2d12_sample_v(s->value, in->seed, s->index, in->noise_sd);
       break;
     case SEAR_INPUT_GP2D15:
-      mcu_set_driven((uint8_t)in->target, (uint8_t)gp2d15_update(&sear_mcu.rangers[s->input], s->value),
-                     s->time_ns);
+      mcu_set_driven((uint8_t)in->target, (uint8_t)gp2d15_update(&sear_mcu.rangers[s->input], s->value));
       break;
     case SEAR_INPUT_SWITCH:
       /* A closed contact pulls the pin to ground; an open one leaves it to the pull-up. */
-      mcu_set_driven((uint8_t)in->target, s->value != 0.0 ? 0 : MCU_FLOATING, s->time_ns);
+      mcu_set_driven((uint8_t)in->target, s->value != 0.0 ? 0 : MCU_FLOATING);
       break;
     default:
       break;
