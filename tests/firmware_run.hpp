@@ -55,6 +55,12 @@ inline SearRun run_sear(const TempDir& dir, const std::string& project, const st
           read_file(dir.path() / "stderr"), out};
 }
 
+// Names a parameterised test's cases by their number, for ctest.
+template <class T>
+std::string case_name(const ::testing::TestParamInfo<T>& param) {
+  return "Case" + std::to_string(param.index);
+}
+
 inline std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;
   std::istringstream in(text);

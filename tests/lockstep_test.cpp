@@ -146,9 +146,11 @@ TEST_F(SerialProbe, ABusyWaitOnTheMillisecondClockEnds) {
   std::smatch m;
   const std::string console = run_->file("rover.a.console.log");
   ASSERT_TRUE(std::regex_search(console, m, std::regex("busy-wait ended at (\\d+) us"))) << console;
-  // Each millis() costs 50 cycles at 16 MHz, 3.125 us: the loop ends within a few calls of 250 ms.
-  EXPECT_GE(std::stol(m[1]), 250000);
-  EXPECT_LE(std::stol(m[1]), 250010);
+  // Each call costs 50 cycles at 16 MHz, 3.125 us. hal_init() and uart_begin() take the clock to
+  // 6.25 us, the first millis() (the target, 0 + 250 ms) to 9.375 us; the loop's millis() calls
+  // fall at 9.375 us + k x 3.125 us, the first at or after 250 ms exactly at it (k = 79997); then
+  // micros() is called at 250.003125 ms.
+  EXPECT_EQ(std::stol(m[1]), 250003);
 }
 
 TEST_F(SerialProbe, BytesAt9600BaudAre1Point0417msApartAndArriveOnTheLoopedBackRx) {

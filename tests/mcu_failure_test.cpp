@@ -45,6 +45,8 @@ void expect_report(const SearRun& run, const Expected& e) {
   EXPECT_EQ(summary["mcu_stops"][0]["last_hal_call"], e.last_call);
   // What it printed before failing, and the trace up to then, are on disk.
   EXPECT_NE(run.file("rover.main.console.log").find("about to fail"), std::string::npos);
+  // And what it printed on its own stdout, a file, where a buffer would have lost it.
+  EXPECT_NE(run.file("rover.main.host.log").find("on its own stdout before failing"), std::string::npos);
   EXPECT_GE(lines_of(run.file("trace_rover.csv")).size(), 4u);  // header, t = 0, 0.1, 0.2 s
 }
 

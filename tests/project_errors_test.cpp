@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "project_text.hpp"
 #include "temp_dir.hpp"
 #include "scene/diagnostics.hpp"
 #include "scene/geodetic.hpp"
@@ -20,6 +21,9 @@
 namespace sear {
 namespace {
 
+using test::line_of;
+using test::replaced;
+
 using sear::test::TempDir;
 
 namespace fs = std::filesystem;
@@ -27,21 +31,6 @@ namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 
 
-// 1-based line of the first occurrence of `needle` in `text`, 0 when absent.
-int line_of(const std::string& text, const std::string& needle) {
-  const auto at = text.find(needle);
-  if (at == std::string::npos) return 0;
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-}
-
-// `text` with its one occurrence of `from` replaced by `to`; a test typo fails loudly.
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << "'" << from << "' is not in the text";
-  EXPECT_EQ(text.find(from, at + 1), std::string::npos) << "'" << from << "' is in the text twice";
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
 
 bool same_file(const std::string& a, const std::string& b) {
   return fs::path(a).lexically_normal() == fs::path(b).lexically_normal();
@@ -214,7 +203,7 @@ TEST(ProjectErrors, NegativeChassisMass) {
   EXPECT_FALSE(l.project.has_value());
   ASSERT_EQ(l.diagnostics.all().size(), 1u) << l.diagnostics.joined();
   EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "<chassis"),
-                      {"<chassis> attribute 'mass'", "-1.5", "out of range", "expected > 0"}));
+                      {"<chassis> attribute 'mass'", "-1.5", "out of range", "expected 0.01..100000 kg"}));
 }
 
 TEST(ProjectErrors, ZeroWheelRadius) {
@@ -225,7 +214,7 @@ TEST(ProjectErrors, ZeroWheelRadius) {
   EXPECT_FALSE(l.project.has_value());
   ASSERT_EQ(l.diagnostics.all().size(), 1u) << l.diagnostics.joined();
   EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, R"(<wheel name="left")"),
-                      {"<wheel> attribute 'radius'", "out of range", "expected > 0"}));
+                      {"<wheel> attribute 'radius'", "out of range", "expected 0.001..10 m"}));
 }
 
 TEST(ProjectErrors, MissingMeshFileNamesTheElementAndThePath) {
@@ -342,7 +331,7 @@ TEST(ProjectErrors, ErrorsInsideARobotFileNameThatFile) {
   EXPECT_FALSE(l.project.has_value());
   ASSERT_EQ(l.diagnostics.all().size(), 2u) << l.diagnostics.joined();
   EXPECT_TRUE(reports(l.diagnostics, robot_path, line_of(robot, "<chassis"),
-                      {"<chassis> attribute 'mass'", "out of range", "expected > 0"}));
+                      {"<chassis> attribute 'mass'", "out of range", "expected 0.01..100000 kg"}));
   EXPECT_TRUE(reports(l.diagnostics, robot_path, line_of(robot, "<motor name=\"right\""),
                       {"unknown wheel 'rihgt'", "did you mean 'right'"}));
 }

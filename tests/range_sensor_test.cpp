@@ -5,13 +5,16 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "physics/physics_world.hpp"
 #include "physics/scenery.hpp"
+#include "scene/project_loader.hpp"
 #include "temp_dir.hpp"
 #include "test_world.hpp"
 
@@ -391,6 +394,188 @@ TEST(RangeSensorHits, ConeBundleSeesAThinPoleOffTheAxisThatTheCentreRayMisses) {
   EXPECT_FALSE(RangeSensor(beam_at(origin, 0, 0, 0.8, 0)).measure(scene.physics, nullptr, -1).hit);
   // Turned so the pole sits 8 degrees off the axis, outside the beam, the bundle misses it too.
   EXPECT_FALSE(RangeSensor(beam_at(origin, -5, 0, 0.8, 5)).measure(scene.physics, nullptr, -1).hit);
+}
+
+// The default project's world and rover (no firmware), settled for a moment: terrain, walls,
+// boxes, trees, a mesh rock, a loose parcel and a robot, to check every kind of geom at once.
+struct DefaultWorld {
+  DefaultWorld() : project(load()), sim(project, 1) { test::run_for(sim, 0.3); }
+  static ProjectDesc load() {
+    Diagnostics diagnostics;
+    auto p = load_project(std::string(SEAR_ASSET_DIR) + "/projects/default.xml", diagnostics);
+    if (!p) throw std::runtime_error(diagnostics.joined());
+    for (auto& robot : p->robots) robot.mcus.clear();
+    return *p;
+  }
+  ProjectDesc project;
+  Simulation sim;
+};
+
+void brute_force_into(dSpaceID space, std::vector<dGeomID>& out) {
+  for (int i = 0; i < dSpaceGetNumGeoms(space); ++i) {
+    dGeomID g = dSpaceGetGeom(space, i);
+    if (dGeomIsSpace(g)) brute_force_into(reinterpret_cast<dSpaceID>(g), out);
+    else if (dGeomGetData(g)) out.push_back(g);
+  }
+}
+
+// The reference: one full-length ray against every tagged geom of the world, no box culling, no
+// shortening, the closest contact kept.
+RangeReading brute_force(const PhysicsWorld& physics, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                         double length, int ignore_entity) {
+  std::vector<dGeomID> geoms;
+  brute_force_into(physics.static_space(), geoms);
+  brute_force_into(physics.dynamic_space(), geoms);
+  dGeomID ray = dCreateRay(nullptr, length);
+  dGeomRaySetFirstContact(ray, 0);
+  dGeomRaySetBackfaceCull(ray, 0);
+  dGeomRaySetClosestHit(ray, 1);
+  dGeomRaySet(ray, origin.x(), origin.y(), origin.z(), dir.x(), dir.y(), dir.z());
+  RangeReading best;
+  best.distance_m = length;
+  for (dGeomID g : geoms) {
+    const auto* tag = static_cast<const GeomTag*>(dGeomGetData(g));
+    if (ignore_entity >= 0 && tag->entity == ignore_entity) continue;
+    dContactGeom contacts[64];
+    const int n = dCollide(ray, g, 64, contacts, sizeof(dContactGeom));
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d point(contacts[k].pos[0], contacts[k].pos[1], contacts[k].pos[2]);
+      const double t = (point - origin).dot(dir);
+      if (t < 0 || t > length || (best.hit && t >= best.distance_m)) continue;
+      best.hit = true;
+      best.distance_m = t;
+      best.point_m = point;
+      best.entity = tag->entity;
+    }
+  }
+  dGeomDestroy(ray);
+  return best;
+}
+
+// Random ray origins that meet things often: near the terrain, an obstacle or the rover.
+struct RayDraw {
+  explicit RayDraw(const DefaultWorld& w) : world(w), random(7) {}
+  Eigen::Vector3d origin() {
+    const std::vector<Eigen::Vector2d> near = {{0, 0},    {3.5, 0.2}, {1.5, -2.5}, {-2.5, 2}, {-3, -3},
+                                               {5, -4},   {2, 3},     {0, 13},     {15, 0},   {-15, -15}};
+    const Eigen::Vector3d rover = world.sim.robot(0).state().position_m;
+    Eigen::Vector2d xy = uniform(random) < 0.2 ? Eigen::Vector2d(rover.x(), rover.y())
+                                               : near[static_cast<std::size_t>(uniform(random) * static_cast<double>(near.size()))];
+    xy += Eigen::Vector2d(2 * uniform(random) - 1, 2 * uniform(random) - 1) * 1.5;
+    // Above the ground: a ray that starts under a heightfield's surface gets an answer from ODE
+    // that depends on the ray's length (where the surface is crossed upwards, or a depth), so there
+    // no two ways of asking agree. Sensors start above it.
+    const double ground = world.sim.physics().terrain_height(xy.x(), xy.y(), 0.0);
+    return {xy.x(), xy.y(), ground + 0.001 + 1.5 * uniform(random) * uniform(random)};
+  }
+  Eigen::Vector3d direction() {
+    // Mostly near level, as rangers and levers look; some steep, some straight up or down.
+    const double yaw = 2 * M_PI * uniform(random);
+    const double pitch = uniform(random) < 0.8 ? 0.3 * (2 * uniform(random) - 1) : M_PI * (uniform(random) - 0.5);
+    return {std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch)};
+  }
+  double range() { return uniform(random) < 0.5 ? 0.01 + 0.5 * uniform(random) : 0.5 + 20 * uniform(random); }
+
+  const DefaultWorld& world;
+  std::mt19937_64 random;
+  std::uniform_real_distribution<double> uniform{0.0, 1.0};
+};
+
+Eigen::Matrix3d yaw_pitch(const Eigen::Vector3d& dir) {
+  return (Eigen::AngleAxisd(std::atan2(dir.y(), dir.x()), Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(-std::asin(dir.z()), Eigen::Vector3d::UnitY()))
+      .toRotationMatrix();
+}
+
+TEST(RangeSensorFastPath, SingleRaysAndBundlesFindWhatEveryGeomTestedAlongEveryRayFinds) {
+  const DefaultWorld world;
+  const PhysicsWorld& physics = world.sim.physics();
+  const int rover = world.sim.robot(0).entity();
+  RayDraw draw(world);
+  int hits = 0, misses = 0, terrain = 0, obstacles = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d origin = draw.origin(), dir = draw.direction();
+    const double range = draw.range();
+    const int ignore = i % 3 == 0 ? rover : -1;
+    // The beam is placed in the world by a mount pose that turns +x onto `dir`.
+    const RangeSensor sensor(beam_at({0, 0, 0}, 0, 0, range));
+    const RangeReading fast = sensor.measure(physics, origin, yaw_pitch(dir), ignore);
+    const Eigen::Vector3d axis = yaw_pitch(dir) * sensor.directions()[0];
+    const RangeReading slow = brute_force(physics, origin, axis, range, ignore);
+    ASSERT_EQ(fast.hit, slow.hit) << i;
+    // Both ask ODE's own colliders the same question, the fast path with a ray cut short at the
+    // best hit so far: the same contact, to rounding.
+    EXPECT_NEAR(fast.distance_m, slow.distance_m, 1e-9) << i;
+    EXPECT_EQ(fast.entity, slow.entity) << i;
+    (fast.hit ? hits : misses)++;
+    if (fast.hit) (fast.entity < 0 ? terrain : obstacles)++;
+  }
+  // The draw meets every kind of answer often enough for the comparison to mean something.
+  EXPECT_GT(hits, 600);
+  EXPECT_GT(misses, 600);
+  EXPECT_GT(terrain, 200);
+  EXPECT_GT(obstacles, 200);
+
+  // Cone bundles: the closest over all their rays, ray by ray through the reference.
+  for (int i = 0; i < 150; ++i) {
+    const Eigen::Vector3d origin = draw.origin(), dir = draw.direction();
+    RangeBeam beam = beam_at({0, 0, 0}, 0, 0, draw.range(), 2 + 10 * draw.uniform(draw.random));
+    beam.resolution_rad = 2 * kDeg;
+    const RangeSensor sensor(beam);
+    const Eigen::Matrix3d mount = yaw_pitch(dir);
+    const RangeReading fast = sensor.measure(physics, origin, mount, rover);
+    RangeReading slow;
+    slow.distance_m = beam.max_range_m;
+    for (const auto& d : sensor.directions()) {
+      const RangeReading r = brute_force(physics, origin, mount * d, beam.max_range_m, rover);
+      if (r.hit && (!slow.hit || r.distance_m < slow.distance_m)) slow = r;
+    }
+    ASSERT_EQ(fast.hit, slow.hit) << i;
+    EXPECT_NEAR(fast.distance_m, slow.distance_m, 1e-9) << i;
+  }
+}
+
+TEST(RangeSensorFastPath, ASetOfBeamsHitsExactlyWhenOneOfItsSensorsDoes) {
+  const DefaultWorld world;
+  const PhysicsWorld& physics = world.sim.physics();
+  const int rover = world.sim.robot(0).entity();
+  RayDraw draw(world);
+  int pressed = 0, released = 0;
+  for (int i = 0; i < 1500; ++i) {
+    // A lever: parallel rays across a width, each a short reach, as the bump switch casts them.
+    const double width = 0.05 + 0.3 * draw.uniform(draw.random), reach = 0.005 + 0.3 * draw.uniform(draw.random);
+    const int n = static_cast<int>(std::ceil(width / 0.02)) + 1;
+    std::vector<RangeBeam> beams;
+    for (int k = 0; k < n; ++k)
+      beams.push_back(beam_at({0, width * (static_cast<double>(k) / (n - 1) - 0.5), 0}, 0, 0, reach));
+    const RangeSensorSet lever(beams);
+    const std::vector<RangeSensor>& rays = lever.sensors();
+    const Eigen::Vector3d origin = draw.origin();
+    const Eigen::Matrix3d mount = yaw_pitch(draw.direction());
+    const int ignore = i % 2 ? rover : -1;
+    bool any = false, any_reference = false;
+    for (const auto& ray : rays) {
+      any = any || ray.measure(physics, origin, mount, ignore).hit;
+      const Eigen::Vector3d from = origin + mount * ray.beam().position_m;
+      any_reference = any_reference || brute_force(physics, from, mount * ray.directions()[0], reach, ignore).hit;
+    }
+    ASSERT_EQ(any, any_reference) << i;
+    ASSERT_EQ(lever.any_hit(physics, origin, mount, ignore), any) << i;
+    (any ? pressed : released)++;
+  }
+  EXPECT_GT(pressed, 100);
+  EXPECT_GT(released, 100);
+
+  // Mounted on the rover's chassis, its own bump lever: pressed against a wall, free in the open.
+  const Vehicle& v = world.sim.robot(0);
+  std::vector<RangeBeam> beams;
+  for (int k = 0; k <= 9; ++k) beams.push_back(beam_at({0.14, 0.18 * (k / 9.0 - 0.5), -0.01}, 0, 0, 0.02));
+  const RangeSensorSet lever(beams);
+  const std::vector<RangeSensor>& rays = lever.sensors();
+  EXPECT_FALSE(lever.any_hit(physics, v.chassis_body(), rover));  // the rover starts in the open
+  EXPECT_TRUE(lever.any_hit(physics, v.chassis_body(), -1) ==
+              std::any_of(rays.begin(), rays.end(),
+                          [&](const RangeSensor& r) { return r.measure(physics, v.chassis_body(), -1).hit; }));
 }
 
 }  // namespace

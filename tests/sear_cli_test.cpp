@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace {
 
@@ -131,6 +133,7 @@ TEST(SearCli, CheckFindsEverythingPlacedOffTheTerrain) {
   EXPECT_NE(r.err.find(file + ":4: error: obstacle 'lost_oak' has no terrain under it"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(file + ":6: error: robot 'rover' starts at (25.00, 0.00) m, where there is no terrain"),
             std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(file + ": 2 errors\n"), std::string::npos) << r.err;
   EXPECT_EQ(sear("run " + dir.string() + " -o " + (dir / "out").string()).exit_code, 1);
 }
 
@@ -140,6 +143,100 @@ TEST(SearCli, CheckAcceptsTheBundledProject) {
   const Result ok = sear(std::string("check ") + SEAR_ASSET_DIR + "/projects/default.xml");
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_NE(ok.out.find("ok (1 robot"), std::string::npos);
+}
+
+TEST(SearCli, BadNumbersOnTheCommandLineAreRefused) {
+  // CLI11's ValidationError (105): a wrong command line, as README says, and no run starts.
+  const fs::path out = fresh_dir("bad_numbers");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--duration nan", "--duration: expected a number of seconds > 0 and <= 1e7, got 'nan'"},
+      {"--duration inf", "--duration: expected a number of seconds > 0 and <= 1e7, got 'inf'"},
+      {"--duration -1", "--duration: expected a number of seconds > 0 and <= 1e7, got '-1'"},
+      {"--duration 0", "--duration: expected a number of seconds > 0 and <= 1e7, got '0'"},
+      {"--duration 2e7", "--duration: expected a number of seconds > 0 and <= 1e7, got '2e7'"},
+      {"--hang-timeout nan", "--hang-timeout: expected a number of seconds 0.01..3600, got 'nan'"},
+      {"--hang-timeout inf", "--hang-timeout: expected a number of seconds 0.01..3600, got 'inf'"},
+      {"--hang-timeout -5", "--hang-timeout: expected a number of seconds 0.01..3600, got '-5'"},
+      {"--trace-rate 0", "--trace-rate: expected a rate of 0.01..1e6 Hz, got '0'"},
+      {"--trace-rate -50", "--trace-rate: expected a rate of 0.01..1e6 Hz, got '-50'"},
+      {"--trace-rate nan", "--trace-rate: expected a rate of 0.01..1e6 Hz, got 'nan'"},
+      {"--seed -1", "--seed: expected a whole number 0..18446744073709551615, got '-1'"},
+      {"--seed 18446744073709551616", "--seed: expected a whole number 0..18446744073709551615, got '18446744073709551616'"},
+      {"--seed 1.5", "--seed: expected a whole number 0..18446744073709551615, got '1.5'"},
+  };
+  for (const auto& [args, message] : cases) {
+    const Result r = sear("run " + args + " -o " + out.string());
+    EXPECT_EQ(r.exit_code, 105) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+}
+
+// A project without firmware, so that a run needs no compiler: the bundled rover, scripted.
+fs::path scripted_project(const std::string& name) {
+  const fs::path dir = fresh_dir(name);
+  fs::create_directories(dir);
+  std::ofstream(dir / "project.xml") << "<project name=\"scripted\">\n  <world/>\n  <robot file=\"" << SEAR_ASSET_DIR
+                                     << "/robots/rover.xml\"/>\n</project>\n";
+  return dir;
+}
+
+TEST(SearCli, TheLargestSeedIsTaken) {
+  const fs::path dir = scripted_project("largest_seed");
+  const Result r = sear("run " + dir.string() + " --quiet --duration 0.05 --seed 18446744073709551615 -o " +
+                        (dir / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto summary = nlohmann::json::parse(read(dir / "out" / "summary.json"));
+  EXPECT_EQ(summary["seed"].get<std::uint64_t>(), 18446744073709551615ull);
+}
+
+TEST(SearCli, CheckRefusesALatin1ProjectAndAFirmwareThatCannotRun) {
+  const fs::path dir = fresh_dir("latin1");
+  fs::create_directories(dir / "src");
+  std::ofstream(dir / "plain") << "not a program";
+  fs::permissions(dir / "plain", fs::perms::owner_read | fs::perms::owner_write);
+  std::ofstream(dir / "project.xml") << "<project name=\"caf\xE9\">\n  <world/>\n</project>\n";
+  const std::string file = (dir / "project.xml").string();
+  Result r = sear("check " + dir.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(file + ":1: error: the file is not valid UTF-8 (byte 0xE9 at column 19)"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(sear("run " + dir.string() + " -o " + (dir / "out").string()).exit_code, 1);
+  EXPECT_FALSE(fs::exists(dir / "out" / "summary.json"));
+
+  std::ofstream(dir / "project.xml") << R"(<project>
+  <world/>
+  <robot file=")" << SEAR_ASSET_DIR << R"(/robots/rover.xml">
+    <mcu name="main"><firmware executable="plain"/></mcu>
+    <mcu name="second"><firmware sources="src"/></mcu>
+  </robot>
+</project>
+)";
+  r = sear("check " + dir.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(file + ":4: error: <firmware> firmware executable 'plain' is not executable"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find(file + ":5: error: <firmware> firmware source 'src' is a folder, expected a file"),
+            std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(file + ": 2 errors"), std::string::npos) << r.err;
+}
+
+TEST(SearCli, CheckPrintsAHundredErrorsAndACount) {
+  const fs::path dir = fresh_dir("many_errors");
+  fs::create_directories(dir);
+  {
+    std::ofstream xml(dir / "project.xml");
+    xml << "<project>\n  <world>\n";
+    for (int i = 0; i < 100000; ++i) xml << "    <tree trunk_radius=\"nan\"/>\n";
+    xml << "  </world>\n</project>\n";
+  }
+  const Result r = sear("check " + dir.string());
+  EXPECT_EQ(r.exit_code, 1);
+  const std::string file = (dir / "project.xml").string();
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 102) << r.err.substr(0, 2000);
+  EXPECT_NE(r.err.find(file + ":102: error: <tree> attribute 'trunk_radius': expected a number (m), got 'nan'\n"
+                              "... and 99900 more errors\n" + file + ": 100000 errors\n"),
+            std::string::npos) << r.err.substr(r.err.size() > 2000 ? r.err.size() - 2000 : 0);
 }
 
 TEST(SearCli, HelpNamesEveryRunOption) {

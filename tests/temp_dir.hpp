@@ -16,7 +16,9 @@ class TempDir {
  public:
   TempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const std::string test = info ? info->name() : "test";
+    std::string test = info ? info->name() : "test";
+    for (char& c : test)  // a parameterised test's name holds '/'
+      if (c == '/') c = '_';
     std::random_device random;
     const auto now = static_cast<unsigned long long>(std::chrono::steady_clock::now().time_since_epoch().count());
     for (int attempt = 0;; ++attempt) {

@@ -1,125 +1,14 @@
-/* The simulated MCU inside the firmware's process: its virtual clock, pins, inputs, UARTs and
- * interrupt sources, shared by the files that implement the HAL against the lockstep link. */
+/* What the HAL's calls are built on, layer by layer: the MCU's state (mcu_state.h), the
+ * firmware's end of the link (link_end.h), pin levels (pins.h) and the scheduler of its virtual
+ * time (scheduler.h). Included by the HAL calls and the idle-loop check at the top; the layers
+ * below include only what lies under them. */
 #ifndef SEAR_HAL_RUNTIME_MCU_H
 #define SEAR_HAL_RUNTIME_MCU_H
 
-#include <hal/irq.h>
-#include <hal/uart.h>
-#include <stdint.h>
-
-#include "devices/sharp_gp2d15.h"
-#include "runtime/lockstep_link.h"
-
-#define MCU_FLOATING 0xFF     /* nothing outside drives the pin */
-#define MCU_ARRIVALS 512      /* received bytes not yet due, per port */
-#define MCU_TIME_NEVER INT64_MAX
-
-struct mcu_arrival {
-  int64_t time_ns;
-  uint8_t byte;
-};
-
-struct mcu_uart {
-  uint32_t baud; /* 0: not begun */
-  /* Bytes leave back to back from `anchor_ns`: byte n of a burst ends at anchor + n*10/baud,
-   * computed from the anchor each time so that rounding never accumulates. */
-  int64_t anchor_ns;
-  uint64_t burst;
-  int64_t last_end_ns;
-  uint8_t rx[HAL_UART_BUFFER];
-  uint8_t rx_head;
-  uint8_t rx_count;
-  uint32_t rx_overruns;
-  irq_byte_handler rx_handler;
-  struct mcu_arrival arrivals[MCU_ARRIVALS]; /* ring, in time order */
-  uint32_t arrival_head;
-  uint32_t arrival_count;
-  uint8_t handler_bytes[HAL_UART_BUFFER]; /* received, waiting for their interrupt */
-  uint8_t handler_head;
-  uint8_t handler_count;
-  /* While interrupts are held off, received bytes wait in the USART's own two-byte FIFO, as on
-   * the chip; a third is an overrun. The RX interrupt moves them on once it can run. */
-  uint8_t fifo[2];
-  uint8_t fifo_count;
-};
-
-struct mcu {
-  struct sear_link *link;
-  int64_t cost_ns;
-  int64_t next_due_ns; /* the earliest time anything needs the slow path */
-  int irq_enabled;
-  int in_isr;
-  int exiting; /* after exit(): the HAL keeps answering but no longer hands over */
-  /* Read by the idle-loop check's signal handler (idle.c), hence volatile. */
-  volatile int slow_path;          /* inside mcu_service() or a hand-over, which may take a while */
-  volatile uint64_t handlers_run;  /* interrupt handlers run so far */
-
-  uint32_t sample_next; /* into link->samples for the current quantum */
-  double analog_v[SEAR_LINK_ADC_CHANNELS];
-  struct gp2d15 rangers[SEAR_LINK_MAX_INPUTS];
-
-  uint8_t mode[SEAR_LINK_PINS];
-  uint8_t latch[SEAR_LINK_PINS];   /* the level the firmware drives when the pin is an output */
-  uint8_t driven[SEAR_LINK_PINS];  /* the level a device drives onto the pin, or MCU_FLOATING */
-  uint8_t pwm[SEAR_LINK_PINS];     /* 1 while a PWM waveform drives the pin */
-  irq_handler pin_handler[SEAR_LINK_PINS];
-  uint8_t pin_edges[SEAR_LINK_PINS];
-  uint8_t pin_pending[SEAR_LINK_PINS];
-
-  irq_handler timer_handler;
-  int64_t timer_period_ns;
-  int64_t timer_due_ns;
-  int timer_pending;
-
-  uint8_t adc_reference;
-  uint8_t adc_bits;
-
-  struct mcu_uart uart[SEAR_LINK_UARTS];
-
-  uint32_t spi_clock_hz;
-  uint32_t i2c_clock_hz;
-};
-
-extern struct mcu sear_mcu;
-
-/* The slow path of every HAL call: hands over at quantum ends, applies what fell due, runs
- * interrupts. Called only when the clock has reached next_due_ns. */
-void mcu_service(void);
-
-/* Charges a HAL call: records it for reports, serves what fell due, and returns the time at
- * which the call acts; its cost is added after. */
-static inline int64_t mcu_enter(enum sear_call call) {
-  struct sear_link *link = sear_mcu.link;
-  link->last_call = (uint32_t)call;
-  link->calls++;
-  if (link->clock_ns >= sear_mcu.next_due_ns) mcu_service();
-  const int64_t now = link->clock_ns;
-  link->clock_ns = now + sear_mcu.cost_ns;
-  return now;
-}
-
-/* Moves the clock to t_ns, handing over at each quantum end and running interrupts at the
- * moment they fall due, as they would during a busy-wait on a real chip. */
-void mcu_advance_to(int64_t t_ns);
-
-/* Recomputes next_due_ns after anything that changed what is pending. */
-void mcu_reschedule(void);
-
-/* The earliest sample, received byte or timer tick still to come. */
-int64_t mcu_earliest_input(void);
-
-/* Starts the check for loops that wait for an interrupt without calling the HAL (idle.c), once an
- * interrupt handler is attached: only then can such a loop end. */
-void mcu_watch_idle_loops(void);
-
-void mcu_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns);
-
-/* A call the real chip could not do: the run reports `message` and this MCU stops. */
-void mcu_fatal(const char *format, ...) __attribute__((noreturn, format(printf, 1, 2)));
-
-void mcu_check_pin(uint8_t pin, const char *call);
-uint8_t mcu_pin_level(uint8_t pin);
-void mcu_set_driven(uint8_t pin, uint8_t level);
-void mcu_uart_arrive(uint8_t port, uint8_t byte, int64_t time_ns);
+#include "idle.h"
+#include "link_end.h"
+#include "mcu_state.h"
+#include "pins.h"
+#include "scheduler.h"
 
 #endif

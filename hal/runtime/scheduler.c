@@ -1,9 +1,32 @@
 /* When things happen in the firmware's virtual time: quantum hand-overs, sensor samples and
- * received bytes falling due, and interrupts delivered at the first HAL call after they do. */
-#include "devices/sharp_gp2d12.h"
-#include "mcu.h"
+ * received bytes falling due, and interrupts delivered at the first HAL call after they do; and
+ * the MCU's start-up, before the firmware's main(). */
+#include "scheduler.h"
 
-void mcu_exchange(void);
+#include <stdio.h>
+
+#include "devices/sharp_gp2d12.h"
+#include "link_end.h"
+#include "pins.h"
+
+void mcu_uart_arrive(uint8_t port, uint8_t byte, int64_t time_ns) {
+  struct mcu_uart *u = &sear_mcu.uart[port];
+  if (u->arrival_count == MCU_ARRIVALS) {
+    u->rx_overruns++;
+    return;
+  }
+  struct mcu_arrival *a = &u->arrivals[(u->arrival_head + u->arrival_count++) % MCU_ARRIVALS];
+  a->time_ns = time_ns;
+  a->byte = byte;
+}
+
+/* Bytes the simulator queued for this quantum join each port's arrivals, still in time order. */
+void mcu_take_quantum(void) {
+  const struct sear_link *link = sear_mcu.link;
+  sear_mcu.sample_next = 0;
+  for (uint32_t i = 0; i < link->rx_count && i < SEAR_LINK_MAX_RX; ++i)
+    if (link->rx[i].port < SEAR_LINK_UARTS) mcu_uart_arrive(link->rx[i].port, link->rx[i].byte, link->rx[i].time_ns);
+}
 
 static int64_t earliest_arrival(void) {
   int64_t t = MCU_TIME_NEVER;
@@ -184,7 +207,8 @@ void mcu_service(void) {
   for (;;) {
     apply_due(link->clock_ns < link->quantum_end_ns ? link->clock_ns : link->quantum_end_ns - 1);
     if (link->clock_ns >= link->quantum_end_ns) {
-      mcu_exchange();
+      mcu_link_exchange();
+      mcu_take_quantum();
       continue;
     }
     if (!(sear_mcu.irq_enabled && !sear_mcu.in_isr && deliver_one())) break;
@@ -209,4 +233,25 @@ void mcu_advance_to(int64_t t_ns) {
     if (next > link->clock_ns) link->clock_ns = next;
   }
   sear_mcu.slow_path--;
+}
+
+/* Start-up of the simulated MCU, before the firmware's main(): attach to the link, reset the chip's
+ * state, and wait for the first quantum. It lives here, in the file every HAL call pulls in from
+ * the static library, so that the linker never leaves it out. Priority 101 runs it before the
+ * firmware's own constructors (default priority), so that one that calls the HAL finds it ready. */
+__attribute__((constructor(101))) static void start_mcu(void) {
+  /* Whatever the firmware prints on its own stdout reaches its host log at once, so that output
+   * before a crash is not lost in a buffer. */
+  setvbuf(stdout, NULL, _IONBF, 0);
+  mcu_link_attach();
+  const struct sear_link *link = sear_mcu.link;
+  sear_mcu.cost_ns = link->hal_call_cost_ns;
+  sear_mcu.adc_bits = 10;
+  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) sear_mcu.driven[pin] = MCU_FLOATING;
+  const uint32_t inputs = link->input_count < SEAR_LINK_MAX_INPUTS ? link->input_count : SEAR_LINK_MAX_INPUTS;
+  for (uint32_t i = 0; i < inputs; ++i)
+    gp2d15_init(&sear_mcu.rangers[i], link->inputs[i].switch_distance_m, link->inputs[i].hysteresis_m);
+  mcu_link_first_turn();
+  mcu_take_quantum();
+  mcu_reschedule();
 }

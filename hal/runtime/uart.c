@@ -26,17 +26,6 @@ void uart_begin(uint8_t port, uint32_t baud) {
   mcu_emit(SEAR_EVENT_UART_BEGIN, port, baud, now);
 }
 
-void mcu_uart_arrive(uint8_t port, uint8_t byte, int64_t time_ns) {
-  struct mcu_uart *u = &sear_mcu.uart[port];
-  if (u->arrival_count == MCU_ARRIVALS) {
-    u->rx_overruns++;
-    return;
-  }
-  struct mcu_arrival *a = &u->arrivals[(u->arrival_head + u->arrival_count++) % MCU_ARRIVALS];
-  a->time_ns = time_ns;
-  a->byte = byte;
-}
-
 static void send(uint8_t port, struct mcu_uart *u, uint8_t byte, int64_t now) {
   if (!u->baud) return; /* the transmitter is off until uart_begin(), as on the chip */
   if (u->last_end_ns <= now) {

@@ -1,6 +1,8 @@
 #include "physics/physics_world.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace sear {
@@ -20,6 +22,23 @@ constexpr int kMaxContacts = 8;  // per geom pair; a wheel on a heightfield or m
 // soft enough that QuickStep converges in its fixed iteration count.
 constexpr double kContactErp = 0.4;
 constexpr double kContactCfm = 1e-5;
+
+// A loose obstacle (a box with a mass) that has rested this long sleeps: ODE leaves it out of the
+// solver and collide_pair() out of collision detection until a contact with something awake, a
+// robot or another obstacle that moves, wakes it. At rest on the terrain it would otherwise cost
+// every step what the rover does (its contact rows in QuickStep, its box against the heightfield).
+// Resting means slower than ODE's default thresholds, 1 cm/s and 0.01 rad/s (a millimetre, or a
+// milliradian, in the 0.1 s the test lasts), averaged over kRestSamples steps so that a box rocking
+// through a turning point does not look still; and for kRestTime_s, long against the time a box
+// dropped onto uneven ground takes to settle, short against a run. A sleeping box's velocity is
+// set to zero, so it stays where it settled, within what it crept in that time. Robots never
+// sleep: a firmware may start their motors at any moment, which wakes nothing in ODE.
+constexpr double kRestSpeed_mps = 0.01;
+constexpr double kRestSpin_radps = 0.01;
+constexpr int kRestSamples = 10;
+constexpr double kRestTime_s = 0.1;
+
+bool awake(dBodyID body) { return body && dBodyIsEnabled(body); }
 
 }  // namespace
 
@@ -49,6 +68,37 @@ PhysicsWorld::~PhysicsWorld() {
   for (dHeightfieldDataID data : heightfield_data_) dGeomHeightfieldDataDestroy(data);
 }
 
+void PhysicsWorld::set_terrain_samples(const TerrainDesc& terrain) {
+  terrain_kind_ = terrain.kind;
+  terrain_columns_ = terrain.columns;
+  terrain_rows_ = terrain.rows;
+  terrain_size_m_ = terrain.size_m;
+  terrain_heights_m_ = terrain.kind == TerrainKind::Heightmap ? terrain.heights_m : std::vector<double>{};
+}
+
+double PhysicsWorld::terrain_ceiling(const double box[6]) const {
+  switch (terrain_kind_) {
+    case TerrainKind::Flat: return 0.0;
+    case TerrainKind::Mesh: return std::numeric_limits<double>::infinity();
+    case TerrainKind::Heightmap: break;
+  }
+  if (terrain_columns_ < 2 || terrain_rows_ < 2) return std::numeric_limits<double>::infinity();
+  // Sample (c, r) lies at x = -size_x/2 + c dx, y = size_y/2 - r dy (row 0 the north edge, as
+  // build_terrain lays it out); the cells the box touches span these index ranges.
+  const double dx = terrain_size_m_.x() / (terrain_columns_ - 1), dy = terrain_size_m_.y() / (terrain_rows_ - 1);
+  const auto index = [](double v, int last) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(last))); };
+  const int c0 = index(std::floor((box[0] + 0.5 * terrain_size_m_.x()) / dx), terrain_columns_ - 1);
+  const int c1 = index(std::ceil((box[1] + 0.5 * terrain_size_m_.x()) / dx), terrain_columns_ - 1);
+  const int r0 = index(std::floor((0.5 * terrain_size_m_.y() - box[3]) / dy), terrain_rows_ - 1);
+  const int r1 = index(std::ceil((0.5 * terrain_size_m_.y() - box[2]) / dy), terrain_rows_ - 1);
+  double top = -std::numeric_limits<double>::infinity();
+  for (int r = r0; r <= r1; ++r)
+    for (int c = c0; c <= c1; ++c)
+      top = std::max(top, terrain_heights_m_[static_cast<std::size_t>(r) * static_cast<std::size_t>(terrain_columns_) +
+                                             static_cast<std::size_t>(c)]);
+  return top;
+}
+
 dHeightfieldDataID PhysicsWorld::add_heightfield_data() {
   heightfield_data_.push_back(dGeomHeightfieldDataCreate());
   return heightfield_data_.back();
@@ -68,6 +118,15 @@ int PhysicsWorld::add_entity(const std::string& name) {
 void PhysicsWorld::tag(dGeomID geom, GeomRole role, int entity, int material) {
   tags_.push_back({role, entity, material});
   dGeomSetData(geom, &tags_.back());
+  dBodyID body = dGeomGetBody(geom);
+  if (role == GeomRole::Obstacle && body) {
+    dBodySetAutoDisableFlag(body, 1);
+    dBodySetAutoDisableLinearThreshold(body, kRestSpeed_mps);
+    dBodySetAutoDisableAngularThreshold(body, kRestSpin_radps);
+    dBodySetAutoDisableAverageSamplesCount(body, kRestSamples);
+    dBodySetAutoDisableSteps(body, 1);  // the time below decides, whatever the step size
+    dBodySetAutoDisableTime(body, kRestTime_s);
+  }
 }
 
 dTriMeshDataID PhysicsWorld::add_mesh_data(const TriangleMesh& mesh) {
@@ -102,7 +161,17 @@ void PhysicsWorld::collide_pair(dGeomID a, dGeomID b) {
   const auto* tb = static_cast<const GeomTag*>(dGeomGetData(b));
   if (!ta || !tb) return;
   if (ta->entity == tb->entity && ta->entity >= 0) return;  // a robot's own parts are held by its joints
+  // The terrain meets a wheel's tread, everything else its tyre (see GeomRole).
+  const auto wrong_half = [](const GeomTag* wheel, const GeomTag* other) {
+    return (wheel->role == GeomRole::Wheel && other->role == GeomRole::Terrain) ||
+           (wheel->role == GeomRole::Tread && other->role != GeomRole::Terrain);
+  };
+  if (wrong_half(ta, tb) || wrong_half(tb, ta)) return;
   dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
+  // A sleeping obstacle against the scenery or another sleeper: ODE would not move either, and
+  // its contacts would only cost time. Against something awake the contact is made, and ODE wakes
+  // the sleeper when it gathers the bodies joined to the awake one.
+  if (!awake(ba) && !awake(bb)) return;
   if (ba && bb && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
 
   dContactGeom geoms[kMaxContacts];
@@ -123,6 +192,7 @@ void PhysicsWorld::collide_pair(dGeomID a, dGeomID b) {
     surface.mode |= dContactBounce;
     surface.bounce_vel = 0.1;
   }
+  contact_count_ += static_cast<std::size_t>(n);
   for (int i = 0; i < n; ++i) {
     dContact contact{};
     contact.surface = surface;
@@ -132,7 +202,8 @@ void PhysicsWorld::collide_pair(dGeomID a, dGeomID b) {
   }
 
   const auto is_robot = [](const GeomTag* t) {
-    return t->role == GeomRole::Chassis || t->role == GeomRole::Wheel || t->role == GeomRole::Caster;
+    return t->role == GeomRole::Chassis || t->role == GeomRole::Wheel || t->role == GeomRole::Caster ||
+           t->role == GeomRole::Tread;
   };
   const auto note = [&](const GeomTag* robot, const GeomTag* other) {
     if (other->role == GeomRole::Terrain) return;
@@ -145,6 +216,7 @@ void PhysicsWorld::collide_pair(dGeomID a, dGeomID b) {
 
 void PhysicsWorld::step() {
   touches_.clear();
+  contact_count_ = 0;
   dSpaceCollide(dynamic_space_, this, &PhysicsWorld::near_callback);
   dSpaceCollide2(reinterpret_cast<dGeomID>(dynamic_space_), reinterpret_cast<dGeomID>(static_space_), this,
                  &PhysicsWorld::near_callback);

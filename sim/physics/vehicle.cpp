@@ -77,11 +77,13 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
                      : dCreateTriMesh(physics.dynamic_space(), physics.add_mesh_data(desc.chassis.mesh), nullptr,
                                       nullptr, nullptr);
   dGeomSetBody(hull, chassis_);
+  geoms_.push_back(hull);
   physics.tag(hull, GeomRole::Chassis, entity_, chassis_material);
 
   for (const auto& c : desc.casters) {
     dGeomID ball = dCreateSphere(physics.dynamic_space(), c.radius_m);
     dGeomSetBody(ball, chassis_);
+    geoms_.push_back(ball);
     dGeomSetOffsetPosition(ball, c.position_m.x(), c.position_m.y(), c.position_m.z());
     physics.tag(ball, GeomRole::Caster, entity_, chassis_material);
   }
@@ -109,7 +111,12 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
     dBodySetMaxAngularSpeed(wheel.body, 10.0 * fastest_motor);
     dGeomID tyre = dCreateCylinder(physics.dynamic_space(), w.radius_m, w.width_m);
     dGeomSetBody(tyre, wheel.body);
+    geoms_.push_back(tyre);
     physics.tag(tyre, GeomRole::Wheel, entity_, physics.material_index(w.material));
+    dGeomID tread = dCreateSphere(physics.dynamic_space(), w.radius_m);
+    dGeomSetBody(tread, wheel.body);
+    geoms_.push_back(tread);
+    physics.tag(tread, GeomRole::Tread, entity_, physics.material_index(w.material));
 
     if (w.steered) {
       wheel.joint = dJointCreateHinge2(physics.world(), nullptr);
@@ -140,18 +147,30 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
     for (const auto& name : s.wheels) servo_wheels_.back().push_back(wheel_index(name));
   }
 
-  // Gearbox friction holds each driven wheel until the torque on it exceeds its share.
+  // Each motor acts on its wheels through their joints' motor rows, as a velocity target with a
+  // constraint force mixing of n / k: ODE then solves the row for the torque k / n * (target -
+  // omega) at the speed omega the wheel has at the end of the step, together with the contacts,
+  // so no ratio of damping to inertia or step size can make it diverge. Gearbox friction, a
+  // separate Coulomb limit, takes a second row: an angular motor held at zero speed with its
+  // force capped at each wheel's share of the friction.
   for (std::size_t m = 0; m < desc.motors.size(); ++m) {
-    const double share = desc.motors[m].gear_friction_nm / static_cast<double>(motor_wheels_[m].size());
+    const MotorDesc& motor = desc.motors[m];
+    const double n = static_cast<double>(motor_wheels_[m].size());
+    const double cfm = n / dc_motor_drive(motor, {}).damping_nmps;
+    const double share = motor.gear_friction_nm / n;
     for (std::size_t w : motor_wheels_[m]) {
-      const Wheel& wheel = wheels_[w];
-      if (wheel.steered) {
-        dJointSetHinge2Param(wheel.joint, dParamVel2, 0);
-        dJointSetHinge2Param(wheel.joint, dParamFMax2, share);
-      } else {
-        dJointSetHingeParam(wheel.joint, dParamVel, 0);
-        dJointSetHingeParam(wheel.joint, dParamFMax, share);
-      }
+      Wheel& wheel = wheels_[w];
+      if (wheel.steered) dJointSetHinge2Param(wheel.joint, dParamCFM2, cfm);
+      else dJointSetHingeParam(wheel.joint, dParamCFM, cfm);
+      set_drive(wheel, 0.0, 0.0);
+      if (share <= 0) continue;
+      wheel.friction = dJointCreateAMotor(physics.world(), nullptr);
+      dJointAttach(wheel.friction, wheel.body, chassis_);
+      dJointSetAMotorMode(wheel.friction, dAMotorUser);
+      dJointSetAMotorNumAxes(wheel.friction, 1);
+      dJointSetAMotorAxis(wheel.friction, 0, 1, left.x(), left.y(), left.z());  // rel 1: turns with the wheel
+      dJointSetAMotorParam(wheel.friction, dParamVel, 0);
+      dJointSetAMotorParam(wheel.friction, dParamFMax, share);
     }
   }
 
@@ -190,22 +209,58 @@ double Vehicle::wheel_speed(std::size_t wheel) const {
   return relative.dot(axle_world(wheel));
 }
 
+void Vehicle::set_drive(const Wheel& wheel, double target_radps, double max_torque_nm) {
+  if (wheel.steered) {
+    // Hinge-2 rows measure the chassis (body 1) relative to the wheel: the wheel's speed is minus that.
+    dJointSetHinge2Param(wheel.joint, dParamVel2, -target_radps);
+    dJointSetHinge2Param(wheel.joint, dParamFMax2, max_torque_nm);
+  } else {
+    dJointSetHingeParam(wheel.joint, dParamVel, target_radps);
+    dJointSetHingeParam(wheel.joint, dParamFMax, max_torque_nm);
+  }
+}
+
+void Vehicle::freeze() {
+  if (frozen_) return;
+  frozen_ = true;
+  for (auto& c : motor_commands_) c = DcMotorCommand{};
+  for (auto& p : servo_pulses_) p = 0;
+  std::vector<dBodyID> bodies{chassis_};
+  for (const auto& w : wheels_) bodies.push_back(w.body);
+  for (dBodyID b : bodies) {
+    dBodySetLinearVel(b, 0, 0, 0);
+    dBodySetAngularVel(b, 0, 0, 0);
+    dBodySetForce(b, 0, 0, 0);
+    dBodySetTorque(b, 0, 0, 0);
+    // Disabled bodies with no contacts stay put: ODE only wakes a body that a joint ties to an awake one.
+    dBodyDisable(b);
+  }
+  for (dGeomID g : geoms_) dGeomDisable(g);
+}
+
 void Vehicle::apply_actuators(double dt_s) {
+  if (frozen_) return;
   for (std::size_t i = 0; i < wheels_.size(); ++i) {
     const Eigen::Vector3d axle = axle_world(i);
     dBodySetFiniteRotationAxis(wheels_[i].body, axle.x(), axle.y(), axle.z());
   }
 
-  // A motor driving several wheels acts through an open differential: it turns at their mean speed
-  // and splits its torque evenly between them.
+  // A motor driving several wheels acts through an open differential: it turns at their mean
+  // speed and splits its torque evenly. The joint rows give each wheel k / n * (target -
+  // omega_i); the differential's part, k / n * (omega_i - mean), moves torque between the wheels
+  // and sums to nothing, so it is added explicitly. Against the implicit damping of the same
+  // size it cannot grow: it only lends the wheels' speed difference an inertia of k h / n.
   for (std::size_t m = 0; m < desc_.motors.size(); ++m) {
     const auto& driven = motor_wheels_[m];
-    double omega = 0;
-    for (std::size_t w : driven) omega += wheel_speed(w);
-    omega /= static_cast<double>(driven.size());
-    const double share = dc_motor_torque(desc_.motors[m], motor_commands_[m], omega) / static_cast<double>(driven.size());
+    const DcMotorDrive d = dc_motor_drive(desc_.motors[m], motor_commands_[m]);
+    for (std::size_t w : driven) set_drive(wheels_[w], d.target_radps, d.engaged ? dInfinity : 0.0);
+    if (!d.engaged || driven.size() < 2) continue;
+    const double n = static_cast<double>(driven.size());
+    double mean = 0;
+    for (std::size_t w : driven) mean += wheel_speed(w);
+    mean /= n;
     for (std::size_t w : driven) {
-      const Eigen::Vector3d torque = share * axle_world(w);
+      const Eigen::Vector3d torque = d.damping_nmps / n * (wheel_speed(w) - mean) * axle_world(w);
       dBodyAddTorque(wheels_[w].body, torque.x(), torque.y(), torque.z());
       dBodyAddTorque(chassis_, -torque.x(), -torque.y(), -torque.z());
     }

@@ -48,16 +48,26 @@ class Vehicle {
   // Spin of a wheel about its axle relative to the chassis, rad/s, positive rolling forward.
   double wheel_speed(std::size_t wheel) const;
 
+  // Leaves the world: every body stops and sleeps, every geom stops colliding, the actuators
+  // let go. For a robot that left the terrain or fell through it, so it falls no further.
+  void freeze();
+  bool frozen() const { return frozen_; }
+
   // The ODE bodies, for sensors that measure them and tests that check the joints.
   dBodyID chassis_body() const { return chassis_; }
   dBodyID wheel_body(std::size_t wheel) const { return wheels_[wheel].body; }
+  std::size_t wheel_count() const { return wheels_.size(); }
 
  private:
   struct Wheel {
     dBodyID body;
     dJointID joint;
     bool steered;
+    dJointID friction = nullptr;  // gearbox friction of a motor-driven wheel, if any
   };
+  // The motor row of a wheel's joint: drive towards target_radps (the wheel relative to the
+  // chassis, positive rolling forward) with at most max_torque_nm; 0 switches it off.
+  static void set_drive(const Wheel& wheel, double target_radps, double max_torque_nm);
   Eigen::Vector3d axle_world(std::size_t wheel) const;
   std::size_t wheel_index(const std::string& name) const;
 
@@ -71,6 +81,8 @@ class Vehicle {
   std::vector<double> servo_pulses_;
   std::vector<double> servo_angles_;  // positional servos' present output angle
   double wheelbase_m_ = 0;            // Ackermann: steered axle to driven axle
+  std::vector<dGeomID> geoms_;        // hull, casters, tyres
+  bool frozen_ = false;
 };
 
 }  // namespace sear

@@ -1,5 +1,6 @@
 // The lockstep scheduler: every quantum, each MCU's firmware runs up to the quantum's end against
-// sensors measured at its start, then the physics steps with the actuator commands they left.
+// sensors measured at its start, while the physics steps with the actuator commands the quantum
+// before left; this quantum's commands drive the next step.
 #pragma once
 
 #include <memory>
@@ -13,7 +14,7 @@ namespace sear {
 
 struct LockstepOptions {
   std::string out_dir;         // each MCU's host log (its stdout and stderr) goes here
-  double hang_timeout_s = 5;   // host time without progress before a firmware counts as hung
+  McuRunOptions mcu;
   bool keep_going = false;     // a stopped MCU ends the run, unless this is set
 };
 
@@ -27,8 +28,12 @@ class Lockstep {
   // Starts one process per MCU of every robot; each McuDesc must name its built executable.
   Lockstep(Simulation& sim, const ProjectDesc& project, const LockstepOptions& options, McuListener& listener);
 
-  // One quantum. False when an MCU stopped and the run should end (without keep_going).
+  // One quantum. False when an MCU stopped and the run should end (without keep_going), or when
+  // the run was asked to stop (stop_requested()) while a firmware had the turn.
   bool step();
+  // The robot left the world: its MCUs are shut down, their output ending now. Not an MCU stop:
+  // the robot's event says why.
+  void retire_robot(std::size_t robot);
 
   std::size_t mcu_count() const { return bridges_.size(); }
   const McuBridge& mcu(std::size_t i) const { return *bridges_[i]; }
@@ -40,6 +45,7 @@ class Lockstep {
   McuListener& listener_;
   std::vector<std::unique_ptr<McuBridge>> bridges_;
   std::vector<bool> running_;
+  std::vector<std::size_t> robot_of_;  // per bridge, the index of its robot
   std::vector<McuStop> stops_;
 };
 

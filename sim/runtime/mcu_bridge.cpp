@@ -43,24 +43,30 @@ std::vector<RangeSensor> lever_rays(const BumpSwitchDesc& b) {
   return rays;
 }
 
+std::int64_t call_cost_ns(const McuDesc& d) { return std::llround(d.hal_call_cycles * 1e9 / d.clock_hz); }
+
 }  // namespace
 
 McuBridge::McuBridge(const McuDesc& desc, std::string id, Vehicle& vehicle, std::uint64_t seed,
-                     const std::string& host_log, double hang_timeout_s)
+                     const std::string& host_log, const McuRunOptions& options)
     : desc_(desc), id_(std::move(id)), vehicle_(vehicle), seed_(seed) {
   for (const auto& s : desc_.rangers) {
     rangers_.emplace_back(beam_of(s));
     ranger_period_ns_.push_back(std::llround(s.period_s * 1e9));
   }
-  for (const auto& b : desc_.bumps) bumps_.push_back(lever_rays(b));
+  for (const auto& b : desc_.bumps) bumps_.emplace_back(lever_rays(b));
   receive_next_.assign(desc_.uarts.size(), 0);
-  process_ = std::make_unique<McuProcess>(desc_.firmware_executable, host_log, hang_timeout_s, &McuBridge::setup_link, this);
+  McuProcessOptions process;
+  process.hang_timeout_s = options.hang_timeout_s;
+  process.call_cost_ns = call_cost_ns(desc_);
+  process.max_file_bytes = options.max_file_bytes;
+  process_ = std::make_unique<McuProcess>(desc_.firmware_executable, host_log, process, &McuBridge::setup_link, this);
 }
 
 void McuBridge::setup_link(sear_link& link, const void* context) {
   const auto& self = *static_cast<const McuBridge*>(context);
   const McuDesc& d = self.desc_;
-  link.hal_call_cost_ns = std::llround(d.hal_call_cycles * 1e9 / d.clock_hz);
+  link.hal_call_cost_ns = call_cost_ns(d);
   link.avcc_v = d.avcc_v;
   link.aref_v = d.aref_v;
   if (d.rangers.size() + d.bumps.size() > SEAR_LINK_MAX_INPUTS)  // the loader already said where
@@ -114,8 +120,7 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
     }
   }
   for (const auto& lever : bumps_) {
-    bool closed = false;
-    for (const auto& ray : lever) closed = closed || ray.measure(physics, chassis, self).hit;
+    const bool closed = lever.any_hit(physics, chassis, self);  // one search of the world per lever
     add_sample(t0, 0, input++, closed ? 1.0 : 0.0);
   }
   std::stable_sort(link.samples, link.samples + link.sample_count,
@@ -135,33 +140,27 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
 }
 
 void McuBridge::drain(std::size_t index, McuListener& listener) {
-  sear_link& link = process_->link();
-  // The firmware owns this memory: a count it scribbled over must not take the simulator down.
-  const std::uint32_t n = std::min<std::uint32_t>(__atomic_load_n(&link.event_count, __ATOMIC_ACQUIRE),
-                                                  SEAR_LINK_MAX_EVENTS);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const sear_event& e = link.events[i];
-    if (e.index < SEAR_LINK_PINS) {
-      switch (e.kind) {
-        case SEAR_EVENT_PIN_MODE:
-          pin_output_[e.index] = e.value == 1;  // OUTPUT
-          break;
-        case SEAR_EVENT_PIN:
-          pin_drive_[e.index] = e.value ? 255 : 0;
-          break;
-        case SEAR_EVENT_PWM:
-          pin_drive_[e.index] = static_cast<int>(e.value);
-          break;
-        case SEAR_EVENT_SERVO:
-          servo_pulse_us_[e.index] = static_cast<int>(e.value);
-          break;
-        default:
-          break;
-      }
+  // Each event has passed the link's checks: a firmware that scribbled over its queue is stopped
+  // at the first bad one, and nothing it made up reaches the pins, the motors or a file.
+  for (const sear_event& e : process_->events()) {
+    switch (e.kind) {
+      case SEAR_EVENT_PIN_MODE:
+        pin_output_[e.index] = e.value == 1;  // OUTPUT
+        break;
+      case SEAR_EVENT_PIN:
+        pin_drive_[e.index] = e.value ? 255 : 0;
+        break;
+      case SEAR_EVENT_PWM:
+        pin_drive_[e.index] = static_cast<int>(e.value);
+        break;
+      case SEAR_EVENT_SERVO:
+        servo_pulse_us_[e.index] = static_cast<int>(e.value);
+        break;
+      default:
+        break;
     }
     listener.on_event(index, e);
   }
-  link.event_count = 0;
 }
 
 void McuBridge::command_actuators() {
@@ -182,21 +181,28 @@ void McuBridge::command_actuators() {
     vehicle_.command_servo(static_cast<std::size_t>(vehicle_.servo_index(s.servo)), servo_pulse_us_[s.pin]);
 }
 
-bool McuBridge::finish_quantum(std::size_t index, McuListener& listener) {
+McuBridge::Outcome McuBridge::finish_quantum(std::size_t index, McuListener& listener) {
   for (;;) {
     const McuProcess::Turn turn = process_->wait();
+    if (turn == McuProcess::Turn::Interrupted) return Outcome::Interrupted;
     drain(index, listener);  // whatever it wrote before stopping is kept too
-    if (turn == McuProcess::Turn::Drain) {
+    if (turn == McuProcess::Turn::Drain && !process_->failure()) {
       process_->resume();
       continue;
     }
-    if (turn == McuProcess::Turn::Stopped) {
+    if (turn == McuProcess::Turn::Stopped || process_->failure()) {
       release_actuators();
-      return false;
+      listener.on_stop(index, process_->failure()->time_ns);
+      return Outcome::Stopped;
     }
     command_actuators();
-    return true;
+    return Outcome::Running;
   }
+}
+
+void McuBridge::shut_down(std::size_t index, std::int64_t time_ns, McuListener& listener) {
+  process_.reset();
+  listener.on_stop(index, time_ns);
 }
 
 void McuBridge::release_actuators() {

@@ -21,25 +21,39 @@ class McuListener {
  public:
   virtual ~McuListener() = default;
   virtual void on_event(std::size_t mcu, const sear_event& event) = 0;
+  // The MCU stopped at its clock's time_ns: nothing it queued for later goes out after that.
+  virtual void on_stop(std::size_t mcu, std::int64_t time_ns) = 0;
+};
+
+struct McuRunOptions {
+  double hang_timeout_s = 5;                  // host time without progress before a firmware counts as hung
+  std::uint64_t max_file_bytes = UINT64_MAX;  // the most a firmware may write to any one file
 };
 
 class McuBridge {
  public:
   // `desc.firmware_executable` must name the built firmware. `id` is "robot.mcu".
   McuBridge(const McuDesc& desc, std::string id, Vehicle& vehicle, std::uint64_t seed,
-            const std::string& host_log, double hang_timeout_s);
+            const std::string& host_log, const McuRunOptions& options);
 
   const std::string& id() const { return id_; }
   const McuDesc& desc() const { return desc_; }
 
   // Measures the sensors as the world is now, at t0, and hands the firmware [t0, t1).
   void begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std::int64_t t1);
+  enum class Outcome { Running, Stopped, Interrupted };
   // Waits for the firmware to finish its quantum, passing its events on; then commands the
-  // robot's actuators. False once the firmware has stopped: see failure().
-  bool finish_quantum(std::size_t index, McuListener& listener);
-  const std::optional<McuFailure>& failure() const { return process_->failure(); }
+  // robot's actuators. Stopped: see failure(). Interrupted: the run was asked to stop meanwhile.
+  Outcome finish_quantum(std::size_t index, McuListener& listener);
+  const std::optional<McuFailure>& failure() const {
+    static const std::optional<McuFailure> none;  // shut down with its robot: it did not fail
+    return process_ ? process_->failure() : none;
+  }
   // A stopped MCU drives nothing: its motors coast and its servos get no pulses.
   void release_actuators();
+  // Ends the firmware at time_ns, as its robot left the world: its process is killed and nothing
+  // it queued for later is written.
+  void shut_down(std::size_t index, std::int64_t time_ns, McuListener& listener);
 
  private:
   static void setup_link(sear_link& link, const void* self);
@@ -52,7 +66,7 @@ class McuBridge {
   Vehicle& vehicle_;
   std::uint64_t seed_;
   std::vector<RangeSensor> rangers_;             // desc_.rangers, in order
-  std::vector<std::vector<RangeSensor>> bumps_;  // one ray per few centimetres of each lever
+  std::vector<RangeSensorSet> bumps_;            // one ray per few centimetres of each lever
   std::vector<std::int64_t> ranger_period_ns_;
   std::unique_ptr<McuProcess> process_;
   // What the firmware drives on each pin: 0..255 (LOW, PWM duty, HIGH); inputs drive nothing.

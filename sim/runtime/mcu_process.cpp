@@ -3,20 +3,24 @@
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/mman.h>
+#include <sys/personality.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <new>
 #include <stdexcept>
-#include <vector>
 
-#include "runtime/lockstep_handoff.h"
-
-extern char** environ;
+#include "lockstep_handoff.h"
+#include "runtime/process_keeper.hpp"
+#include "runtime/stop_request.hpp"
 
 namespace sear {
 namespace {
@@ -24,17 +28,49 @@ namespace {
 // Spin while the firmware runs a short quantum; sleep when it takes longer, so that the other
 // MCUs and the firmware itself get the cores.
 constexpr std::int64_t kSpinNs = 200'000;
-// How often a sleeping simulator looks whether the firmware died or hung meanwhile.
+// How often a waiting simulator looks whether the firmware died or hung, or the run was asked to
+// stop, meanwhile: well within the second a Ctrl-C may take.
 constexpr std::int64_t kCheckNs = 10'000'000;
+
+// Fixed descriptor numbers in the firmware: the link, and the executable it was started from,
+// so that the path the kernel records for it ("/dev/fd/4") is the same in every run.
+constexpr int kLinkFd = 3;
+constexpr int kExecutableFd = 4;
+constexpr int kExecReportFd = 5;  // closed by a successful exec
 
 #define SEAR_CALL_NAME(name) #name,
 const char* const kCallNames[] = {SEAR_HAL_CALLS(SEAR_CALL_NAME)};
 #undef SEAR_CALL_NAME
 
+// A firmware sees the same environment in every run, whatever the user's shell holds, so that
+// its stack (where the kernel copies the environment) sits at the same addresses. Only the
+// sanitizers' own settings pass, for sanitizer builds of the tests.
+std::vector<std::string> firmware_environment() {
+  std::vector<std::string> env{fmt::format("{}={}", SEAR_LINK_FD_ENV, kLinkFd),
+                               fmt::format("{}={:010d}", SEAR_SIM_PID_ENV, getpid())};
+  for (const char* name : {"ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS"})
+    if (const char* value = std::getenv(name)) env.push_back(fmt::format("{}={}", name, value));
+  return env;
+}
+
+// Moves a descriptor above the ones the child is about to set up.
+int out_of_the_way(int fd) { return fcntl(fd, F_DUPFD_CLOEXEC, 100); }
+
 }  // namespace
 
 const char* hal_call_name(std::uint32_t call) {
   return call < SEAR_CALL_COUNT ? kCallNames[call] : "unknown";
+}
+
+const char* kind_name(McuFailure::Kind kind) {
+  switch (kind) {
+    case McuFailure::Kind::Exited: return "exited";
+    case McuFailure::Kind::Crashed: return "crashed";
+    case McuFailure::Kind::Hung: return "hung";
+    case McuFailure::Kind::Refused: return "refused";
+    case McuFailure::Kind::Corrupted: return "corrupted";
+  }
+  return "stopped";
 }
 
 std::string describe(const McuFailure& f) {
@@ -43,14 +79,16 @@ std::string describe(const McuFailure& f) {
     case McuFailure::Kind::Crashed: return fmt::format("crashed with signal {} ({})", f.code, f.detail);
     case McuFailure::Kind::Hung: return fmt::format("hung: {}", f.detail);
     case McuFailure::Kind::Refused: return fmt::format("stopped by the HAL: {}", f.detail);
+    case McuFailure::Kind::Corrupted: return fmt::format("overwrote the simulator link at {}; stopped", f.detail);
   }
   return "stopped";
 }
 
-McuProcess::McuProcess(const std::string& executable, const std::string& host_log, double hang_timeout_s,
+McuProcess::McuProcess(const std::string& executable, const std::string& host_log, const McuProcessOptions& options,
                        void (*setup)(sear_link&, const void*), const void* setup_context)
-    : hang_timeout_s_(hang_timeout_s) {
-  fd_ = memfd_create("sear-link", 0);  // no MFD_CLOEXEC: the firmware inherits it
+    : hang_timeout_s_(options.hang_timeout_s) {
+  sear_link_watch_init(&watch_, options.call_cost_ns);
+  fd_ = memfd_create("sear-link", MFD_CLOEXEC);
   if (fd_ < 0 || ftruncate(fd_, sizeof(sear_link)) != 0)
     throw std::runtime_error(fmt::format("cannot create the lockstep link: {}", std::strerror(errno)));
   void* page = mmap(nullptr, sizeof(sear_link), PROT_READ | PROT_WRITE, MAP_SHARED, fd_, 0);
@@ -58,70 +96,130 @@ McuProcess::McuProcess(const std::string& executable, const std::string& host_lo
   link_ = new (page) sear_link{};
   link_->magic = SEAR_LINK_MAGIC;
   link_->version = SEAR_LINK_VERSION;
+  link_->guard_front = SEAR_LINK_GUARD;
+  link_->guard_back = SEAR_LINK_GUARD;
   link_->turn = SEAR_TURN_SIM;
   setup(*link_, setup_context);
+  spawn(executable, host_log, options.max_file_bytes);
+}
 
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, host_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  posix_spawn_file_actions_addclose(&actions, STDIN_FILENO);
-  // The link as descriptor 3, and nothing else of ours: not the run's output files, nor the
-  // other MCUs' links, which a stray write could otherwise corrupt.
-  constexpr int kLinkFd = 3;
-  posix_spawn_file_actions_adddup2(&actions, fd_, kLinkFd);
-  posix_spawn_file_actions_addclosefrom_np(&actions, kLinkFd + 1);
-  std::vector<std::string> env_text;
-  const auto ours = [](const char* entry, const char* name) {
-    return std::strncmp(entry, name, std::strlen(name)) == 0 && entry[std::strlen(name)] == '=';
-  };
-  for (char** e = environ; *e; ++e)
-    if (!ours(*e, SEAR_LINK_FD_ENV) && !ours(*e, SEAR_SIM_PID_ENV)) env_text.emplace_back(*e);
-  env_text.push_back(fmt::format("{}={}", SEAR_LINK_FD_ENV, kLinkFd));
-  env_text.push_back(fmt::format("{}={}", SEAR_SIM_PID_ENV, getpid()));
-  std::vector<char*> env;
-  for (auto& e : env_text) env.push_back(e.data());
-  env.push_back(nullptr);
-  std::string exe = executable;
-  char* argv[] = {exe.data(), nullptr};
-  // Its own process group: Ctrl-C at the terminal interrupts the run, which then stops the
-  // firmware itself, rather than killing the firmware and reporting it as crashed.
-  posix_spawnattr_t attributes;
-  posix_spawnattr_init(&attributes);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
-  posix_spawnattr_setpgroup(&attributes, 0);
-  const int err = posix_spawn(&pid_, exe.c_str(), &actions, &attributes, argv, env.data());
-  posix_spawnattr_destroy(&attributes);
-  posix_spawn_file_actions_destroy(&actions);
-  if (err != 0) {
-    pid_ = -1;
-    throw std::runtime_error(fmt::format("cannot start firmware {}: {}", executable, std::strerror(err)));
+void McuProcess::spawn(const std::string& executable, const std::string& host_log, std::uint64_t max_file_bytes) {
+  const int exe = open(executable.c_str(), O_RDONLY | O_CLOEXEC);
+  if (exe < 0) throw std::runtime_error(fmt::format("cannot start firmware {}: {}", executable, std::strerror(errno)));
+  const int log = open(host_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (log < 0) {
+    close(exe);
+    throw std::runtime_error(fmt::format("{}: error: cannot write: {}", host_log, std::strerror(errno)));
   }
+  // Everything the child needs is prepared here: after fork() it may only make system calls.
+  const std::vector<std::string> env_text = firmware_environment();
+  std::vector<char*> env;
+  for (const auto& e : env_text) env.push_back(const_cast<char*>(e.c_str()));
+  env.push_back(nullptr);
+  char name[] = "firmware";
+  char* argv[] = {name, nullptr};
+  char empty[] = "";
+  const pid_t simulator = getpid();
+  const int link_fd = out_of_the_way(fd_), exe_fd = out_of_the_way(exe), log_fd = out_of_the_way(log);
+  close(exe);
+  close(log);
+  const rlim_t limit = max_file_bytes >= RLIM_INFINITY ? RLIM_INFINITY : static_cast<rlim_t>(max_file_bytes);
+  // The child reports a failed exec through this pipe; a successful one closes it unwritten.
+  int exec_report[2];
+  if (pipe2(exec_report, O_CLOEXEC) != 0) exec_report[0] = exec_report[1] = -1;
+  const int report_fd = exec_report[1] >= 0 ? out_of_the_way(exec_report[1]) : -1;
+  if (exec_report[1] >= 0) close(exec_report[1]);
+
+  pid_ = fork();
+  if (pid_ == 0) {
+    // Its own process group, which the simulator kills as a whole, forked children included;
+    // and Ctrl-C at the terminal reaches the simulator only, which then stops the firmware
+    // rather than finding it killed and reporting a crash.
+    setpgid(0, 0);
+    // Dies with the simulator, whatever kills it; if the simulator is already gone, at once.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != simulator) _exit(127);
+    // A real MCU has fixed addresses: no address-space randomisation, so a firmware that prints
+    // a pointer or reads uninitialised memory does the same in every run.
+    const int persona = personality(0xffffffff);
+    if (persona != -1) personality(static_cast<unsigned long>(persona) | ADDR_NO_RANDOMIZE);
+    // No file it writes, its host log included, grows past the limit: the write fails instead.
+    const struct rlimit file_size = {limit, limit};
+    setrlimit(RLIMIT_FSIZE, &file_size);
+    for (const int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) signal(s, SIG_DFL);
+    signal(SIGXFSZ, SIG_IGN);
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);
+    const int null = open("/dev/null", O_RDONLY);
+    dup2(null, STDIN_FILENO);
+    dup2(log_fd, STDOUT_FILENO);
+    dup2(log_fd, STDERR_FILENO);
+    dup2(link_fd, kLinkFd);                    // without close-on-exec: the firmware maps it
+    dup3(exe_fd, kExecutableFd, O_CLOEXEC);
+    if (report_fd >= 0) dup3(report_fd, kExecReportFd, O_CLOEXEC);
+    syscall(SYS_close_range, static_cast<unsigned>(kExecReportFd + 1), ~0u, 0u);
+    syscall(SYS_execveat, kExecutableFd, empty, argv, env.data(), AT_EMPTY_PATH);
+    const int exec_error = errno;
+    const ssize_t reported = write(kExecReportFd, &exec_error, sizeof exec_error);
+    _exit(reported == static_cast<ssize_t>(sizeof exec_error) ? 127 : 126);
+  }
+  const int fork_error = errno;
+  close(link_fd);
+  close(exe_fd);
+  close(log_fd);
+  if (report_fd >= 0) close(report_fd);
+  if (pid_ < 0) {
+    pid_ = -1;
+    if (exec_report[0] >= 0) close(exec_report[0]);
+    throw std::runtime_error(fmt::format("cannot start firmware {}: {}", executable, std::strerror(fork_error)));
+  }
+  int exec_error = 0;
+  ssize_t got = -1;
+  while (exec_report[0] >= 0 && (got = read(exec_report[0], &exec_error, sizeof exec_error)) < 0 && errno == EINTR) {
+  }
+  if (exec_report[0] >= 0) close(exec_report[0]);
+  if (got == static_cast<ssize_t>(sizeof exec_error)) {
+    waitpid(pid_, nullptr, 0);
+    pid_ = -1;
+    throw std::runtime_error(fmt::format("cannot start firmware {}: {}", executable, std::strerror(exec_error)));
+  }
+  setpgid(pid_, pid_);  // also here, so that the group exists before anything signals it
+  keeper_watch(pid_);
 }
 
 McuProcess::~McuProcess() {
-  if (pid_ > 0) {
-    kill(pid_, SIGKILL);
-    waitpid(pid_, nullptr, 0);
-  }
+  kill_group();
   if (link_) munmap(link_, sizeof(sear_link));
   if (fd_ >= 0) close(fd_);
+}
+
+// The firmware and whatever it forked, stopped ones included: SIGKILL needs no cooperation.
+void McuProcess::kill_group() {
+  if (pid_ <= 0) return;
+  kill(-pid_, SIGKILL);
+  while (waitpid(pid_, nullptr, 0) < 0 && errno == EINTR) {
+  }
+  keeper_forget(pid_);
+  pid_ = -1;
 }
 
 void McuProcess::start_quantum(std::int64_t end_ns) {
   link_->quantum_end_ns = end_ns;
   link_->event_count = 0;
+  watch_.quantum_end_ns = end_ns;
+  watch_.turn_clock_ns = watch_.clock_ns;
   sear_handoff_give(&link_->turn, SEAR_TURN_FIRMWARE, &link_->firmware_waiting);
 }
 
 void McuProcess::resume() {
   link_->event_count = 0;
+  watch_.turn_clock_ns = watch_.clock_ns;
   sear_handoff_give(&link_->turn, SEAR_TURN_FIRMWARE, &link_->firmware_waiting);
 }
 
 McuFailure McuProcess::failure_now(McuFailure::Kind kind) const {
-  McuFailure f{kind, 0, "", link_->clock_ns, hal_call_name(link_->last_call)};
-  return f;
+  return McuFailure{kind, 0, "", watch_.clock_ns, hal_call_name(watch_.last_call)};
 }
 
 McuFailure McuProcess::failure_from_status(int status) const {
@@ -139,11 +237,37 @@ McuFailure McuProcess::failure_from_status(int status) const {
 
 void McuProcess::stop(McuFailure failure) {
   failure_ = std::move(failure);
-  if (pid_ > 0) {
-    kill(pid_, SIGKILL);
-    waitpid(pid_, nullptr, 0);
-    pid_ = -1;
+  kill_group();
+}
+
+void McuProcess::corrupted(const char* why) {
+  McuFailure f = failure_now(McuFailure::Kind::Corrupted);
+  f.detail = why;
+  turn_.event_count = 0;
+  stop(f);
+}
+
+// A firmware that died or hung during its turn never handed it back: its clock, last call and
+// the events it published are still read, if they check out, so that the report says where it
+// was and nothing it did before is lost.
+void McuProcess::read_unfinished_turn() {
+  char why[256];
+  if (sear_link_check_turn(link_, 0, &watch_, &turn_, why, sizeof why) != 0) turn_.event_count = 0;
+}
+
+const std::vector<sear_event>& McuProcess::events() {
+  events_.clear();
+  for (std::uint32_t i = 0; i < turn_.event_count; ++i) {
+    sear_event e;
+    char why[256];
+    if (sear_link_check_event(link_, i, &watch_, &e, why, sizeof why) != 0) {
+      corrupted(why);
+      break;
+    }
+    events_.push_back(e);
   }
+  turn_.event_count = 0;
+  return events_;
 }
 
 // Its destructors and atexit handlers still run; they get the hang timeout to finish.
@@ -153,10 +277,10 @@ McuProcess::Turn McuProcess::await_exit() {
   for (;;) {
     int status = 0;
     if (waitpid(pid_, &status, WNOHANG) == pid_) {
-      pid_ = -1;
-      failure_ = failure_from_status(status);
+      stop(failure_from_status(status));  // anything it forked goes with it
       return Turn::Stopped;
     }
+    if (stop_requested()) return Turn::Interrupted;
     if (Clock::now() > deadline) {
       McuFailure f = failure_now(McuFailure::Kind::Hung);
       f.detail = fmt::format("it called exit() but was still running {:g} s of host time later; stopped", hang_timeout_s_);
@@ -170,43 +294,55 @@ McuProcess::Turn McuProcess::await_exit() {
 McuProcess::Turn McuProcess::wait() {
   if (failure_) return Turn::Stopped;
   using Clock = std::chrono::steady_clock;
-  std::int64_t clock = link_->clock_ns;
+  std::int64_t clock = watch_.clock_ns;
   auto progress_at = Clock::now();
   for (;;) {
     if (sear_handoff_wait(&link_->turn, SEAR_TURN_SIM, &link_->sim_waiting, kSpinNs, kCheckNs)) {
-      switch (link_->request) {
+      char why[256];
+      if (sear_link_check_turn(link_, 1, &watch_, &turn_, why, sizeof why) != 0) {
+        corrupted(why);
+        return Turn::Stopped;
+      }
+      switch (turn_.request) {
         case SEAR_REQUEST_QUANTUM_DONE: return Turn::QuantumDone;
-        case SEAR_REQUEST_DRAIN: return Turn::Drain;
+        case SEAR_REQUEST_DRAIN:
+          // A full queue with the clock where the turn began: pins or ports written in a loop
+          // that takes no simulated time, which would otherwise fill the disk, not the quantum.
+          if (turn_.clock_ns == watch_.turn_clock_ns) {
+            McuFailure f = failure_now(McuFailure::Kind::Hung);
+            f.detail = fmt::format(
+                "it wrote {} pin or port events without its clock moving (a loop that takes no simulated time{}); "
+                "stopped",
+                turn_.event_count, watch_.call_cost_ns == 0 ? ", as HAL calls cost nothing with hal_call_cycles=\"0\"" : "");
+            stop(f);  // its events up to here are still in the link, and still passed on
+            return Turn::Stopped;
+          }
+          return Turn::Drain;
         case SEAR_REQUEST_FATAL: {
           McuFailure f = failure_now(McuFailure::Kind::Refused);
-          f.detail.assign(link_->fatal, strnlen(link_->fatal, sizeof link_->fatal));
+          f.detail = turn_.fatal;
           stop(f);
           return Turn::Stopped;
         }
-        case SEAR_REQUEST_EXIT:  // main() returned or exit() was called: its status follows
+        default:  // SEAR_REQUEST_EXIT: main() returned or exit() was called; its status follows
           return await_exit();
-        default: {
-          McuFailure f = failure_now(McuFailure::Kind::Refused);
-          f.detail = fmt::format("it broke the lockstep protocol (request {}); did it write over the HAL's memory?",
-                                 link_->request);
-          stop(f);
-          return Turn::Stopped;
-        }
       }
     }
     int status = 0;
     if (waitpid(pid_, &status, WNOHANG) == pid_) {
-      pid_ = -1;
-      failure_ = failure_from_status(status);
+      read_unfinished_turn();
+      stop(failure_from_status(status));  // reaped already; this ends what it forked
       return Turn::Stopped;
     }
+    if (stop_requested()) return Turn::Interrupted;
     // Hung: its clock stood still for the whole timeout, because it made no HAL call (or only
-    // calls that cost nothing, with hal_call_cycles="0").
+    // calls that cost nothing, with hal_call_cycles="0"). The raw value only tells progress.
     const std::int64_t now_clock = __atomic_load_n(&link_->clock_ns, __ATOMIC_RELAXED);
     if (now_clock != clock) {
       clock = now_clock;
       progress_at = Clock::now();
     } else if (std::chrono::duration<double>(Clock::now() - progress_at).count() >= hang_timeout_s_) {
+      read_unfinished_turn();
       McuFailure f = failure_now(McuFailure::Kind::Hung);
       f.detail = fmt::format("its clock stood still for {:g} s of host time (no HAL call); stopped", hang_timeout_s_);
       stop(f);

@@ -2,6 +2,7 @@
 // `sear check` can report all of them rather than stopping at the first.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -18,13 +19,24 @@ struct Diagnostic {
 
 class Diagnostics {
  public:
+  // Only the first errors are kept: a generated file with millions of mistakes should give a
+  // screenful and a count, not gigabytes of text (and memory). Beyond this they are only counted.
+  static constexpr std::size_t kMaxKept = 100;
+
   void error(const std::string& file, int line, std::string message);
-  bool ok() const { return items_.empty(); }
+  bool ok() const { return count_ == 0; }
+  // Every error found, including those not kept.
+  std::size_t count() const { return count_; }
+  // The first kMaxKept errors, in the order found.
   const std::vector<Diagnostic>& all() const { return items_; }
-  std::string joined() const;  // one diagnostic per line
+  // True once no more errors are kept: costly details (suggestions) need not be worked out.
+  bool full() const { return items_.size() >= kMaxKept; }
+  // One diagnostic per line, then "... and N more errors" when some were not kept.
+  std::string joined() const;
 
  private:
   std::vector<Diagnostic> items_;
+  std::size_t count_ = 0;
 };
 
 }  // namespace sear

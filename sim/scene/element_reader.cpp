@@ -42,13 +42,15 @@ std::optional<std::string> ElementReader::required_text(const char* attribute) {
   return std::string(v);
 }
 
-std::optional<double> ElementReader::parse_number(const char* attribute, const char* value, Range range,
+std::optional<double> ElementReader::parse_number(const char* attribute, const char* value, const Range& range,
                                                   const char* unit) {
   errno = 0;
   char* end = nullptr;
   const double v = std::strtod(value, &end);
   while (end && *end == ' ') ++end;
   const std::string unit_text = *unit ? fmt::format(" {}", unit) : "";
+  // strtod also reads "nan", "inf" and hex floats; a value beyond double's range sets ERANGE.
+  // None of them is a measurement, and NaN would pass every range test below.
   if (end == value || (end && *end) || errno == ERANGE || !std::isfinite(v)) {
     error(fmt::format("<{}> attribute '{}': expected a number{}, got '{}'", name(), attribute,
                       *unit ? fmt::format(" ({})", unit) : "", value));
@@ -62,14 +64,14 @@ std::optional<double> ElementReader::parse_number(const char* attribute, const c
   return v;
 }
 
-double ElementReader::number(const char* attribute, double fallback, Range range, const char* unit) {
+double ElementReader::number(const char* attribute, double fallback, const Range& range, const char* unit) {
   asked_.emplace_back(attribute);
   const char* v = element_->Attribute(attribute);
   if (!v) return fallback;
   return parse_number(attribute, v, range, unit).value_or(fallback);
 }
 
-std::optional<double> ElementReader::required_number(const char* attribute, Range range, const char* unit) {
+std::optional<double> ElementReader::required_number(const char* attribute, const Range& range, const char* unit) {
   asked_.emplace_back(attribute);
   const char* v = element_->Attribute(attribute);
   if (!v) {
@@ -77,6 +79,19 @@ std::optional<double> ElementReader::required_number(const char* attribute, Rang
     return std::nullopt;
   }
   return parse_number(attribute, v, range, unit);
+}
+
+double ElementReader::whole_number(const char* attribute, double fallback, const Range& range) {
+  asked_.emplace_back(attribute);
+  const char* v = element_->Attribute(attribute);
+  if (!v) return fallback;
+  const auto n = parse_number(attribute, v, range, "");
+  if (!n) return fallback;
+  if (*n != std::floor(*n)) {
+    error(fmt::format("<{}> attribute '{}': expected a whole number in {}, got '{}'", name(), attribute, range.text, v));
+    return fallback;
+  }
+  return *n;
 }
 
 namespace {
@@ -90,40 +105,32 @@ std::vector<std::string> split_words(const char* text) {
 
 }  // namespace
 
-Eigen::Vector2d ElementReader::vec2(const char* attribute, const Eigen::Vector2d& fallback) {
+template <int N>
+Eigen::Matrix<double, N, 1> ElementReader::vector(const char* attribute, const Eigen::Matrix<double, N, 1>& fallback,
+                                                  const Range& each, const char* shape) {
   asked_.emplace_back(attribute);
   const char* v = element_->Attribute(attribute);
   if (!v) return fallback;
   const auto words = split_words(v);
-  if (words.size() != 2) {
-    error(fmt::format("<{}> attribute '{}': expected two numbers 'x y', got '{}'", name(), attribute, v));
+  if (words.size() != static_cast<std::size_t>(N)) {
+    error(fmt::format("<{}> attribute '{}': expected {}, got '{}'", name(), attribute, shape, v));
     return fallback;
   }
-  Eigen::Vector2d out = fallback;
-  for (int i = 0; i < 2; ++i) {
-    auto n = parse_number(attribute, words[static_cast<std::size_t>(i)].c_str(), Range::any(), "");
+  Eigen::Matrix<double, N, 1> out = fallback;
+  for (int i = 0; i < N; ++i) {
+    auto n = parse_number(attribute, words[static_cast<std::size_t>(i)].c_str(), each, "");
     if (!n) return fallback;
     out[i] = *n;
   }
   return out;
 }
 
-Eigen::Vector3d ElementReader::vec3(const char* attribute, const Eigen::Vector3d& fallback, Range each) {
-  asked_.emplace_back(attribute);
-  const char* v = element_->Attribute(attribute);
-  if (!v) return fallback;
-  const auto words = split_words(v);
-  if (words.size() != 3) {
-    error(fmt::format("<{}> attribute '{}': expected three numbers 'x y z', got '{}'", name(), attribute, v));
-    return fallback;
-  }
-  Eigen::Vector3d out = fallback;
-  for (int i = 0; i < 3; ++i) {
-    auto n = parse_number(attribute, words[static_cast<std::size_t>(i)].c_str(), each, "");
-    if (!n) return fallback;
-    out[i] = *n;
-  }
-  return out;
+Eigen::Vector2d ElementReader::vec2(const char* attribute, const Eigen::Vector2d& fallback, const Range& each) {
+  return vector<2>(attribute, fallback, each, "two numbers 'x y'");
+}
+
+Eigen::Vector3d ElementReader::vec3(const char* attribute, const Eigen::Vector3d& fallback, const Range& each) {
+  return vector<3>(attribute, fallback, each, "three numbers 'x y z'");
 }
 
 std::size_t ElementReader::choice(const char* attribute, const std::vector<std::string>& choices,
@@ -136,7 +143,7 @@ std::size_t ElementReader::choice(const char* attribute, const std::vector<std::
   std::string list;
   for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
   error(fmt::format("<{}> attribute '{}': '{}' is not one of {}{}", name(), attribute, v, list,
-                    did_you_mean(v, choices)));
+                    did_you_mean(diagnostics_, v, choices)));
   return fallback_index;
 }
 
@@ -153,7 +160,7 @@ void ElementReader::children(std::initializer_list<const char*> allowed,
     if (std::find(allowed_names.begin(), allowed_names.end(), child->Name()) == allowed_names.end()) {
       diagnostics_.error(file_, child->GetLineNum(),
                          fmt::format("unknown element <{}> in <{}>{}", child->Name(), name(),
-                                     did_you_mean(child->Name(), allowed_names)));
+                                     did_you_mean(diagnostics_, child->Name(), allowed_names)));
       continue;
     }
     visit(*child);
@@ -163,7 +170,7 @@ void ElementReader::children(std::initializer_list<const char*> allowed,
 void ElementReader::finish() {
   for (auto* a = element_->FirstAttribute(); a; a = a->Next()) {
     if (std::find(asked_.begin(), asked_.end(), a->Name()) != asked_.end()) continue;
-    error(fmt::format("unknown attribute '{}' on <{}>{}", a->Name(), name(), did_you_mean(a->Name(), asked_)));
+    error(fmt::format("unknown attribute '{}' on <{}>{}", a->Name(), name(), did_you_mean(diagnostics_, a->Name(), asked_)));
   }
 }
 

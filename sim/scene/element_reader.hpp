@@ -18,17 +18,18 @@ class XMLElement;
 
 namespace sear {
 
-// An inclusive or exclusive bound on a number; the text goes into error messages.
+// An inclusive (or, at its low end, exclusive) bound on a number; the text goes into error
+// messages. Every number a project file gives has one: see scene/value_ranges.hpp for the table.
+// NaN is in no range, and the parser refuses infinities before a range is asked.
 struct Range {
-  double min = -1e300;
-  double max = 1e300;
+  double min = 0;
+  double max = 0;
   bool min_exclusive = false;
   const char* text = "";
 
-  static Range any() { return {}; }
-  static Range positive() { return {0, 1e300, true, "> 0"}; }
-  static Range non_negative() { return {0, 1e300, false, ">= 0"}; }
   static Range between(double lo, double hi, const char* text) { return {lo, hi, false, text}; }
+  // (lo, hi]: for sizes and masses that must not be zero.
+  static Range above(double lo, double hi, const char* text) { return {lo, hi, true, text}; }
   bool contains(double v) const { return (min_exclusive ? v > min : v >= min) && v <= max; }
 };
 
@@ -45,10 +46,12 @@ class ElementReader {
   std::string text(const char* attribute, const std::string& fallback);
   std::optional<std::string> required_text(const char* attribute);
   // `unit` only explains the value in messages, e.g. "kg".
-  double number(const char* attribute, double fallback, Range range = Range::any(), const char* unit = "");
-  std::optional<double> required_number(const char* attribute, Range range = Range::any(), const char* unit = "");
-  Eigen::Vector2d vec2(const char* attribute, const Eigen::Vector2d& fallback);
-  Eigen::Vector3d vec3(const char* attribute, const Eigen::Vector3d& fallback, Range each = Range::any());
+  double number(const char* attribute, double fallback, const Range& range, const char* unit = "");
+  std::optional<double> required_number(const char* attribute, const Range& range, const char* unit = "");
+  // A count or an index: a number in `range` with no fractional part.
+  double whole_number(const char* attribute, double fallback, const Range& range);
+  Eigen::Vector2d vec2(const char* attribute, const Eigen::Vector2d& fallback, const Range& each);
+  Eigen::Vector3d vec3(const char* attribute, const Eigen::Vector3d& fallback, const Range& each);
   // One of `choices`; returns its index, or `fallback_index` when absent or wrong.
   std::size_t choice(const char* attribute, const std::vector<std::string>& choices, std::size_t fallback_index);
   // Whitespace-separated names.
@@ -62,7 +65,10 @@ class ElementReader {
   void finish();
 
  private:
-  std::optional<double> parse_number(const char* attribute, const char* value, Range range, const char* unit);
+  std::optional<double> parse_number(const char* attribute, const char* value, const Range& range, const char* unit);
+  template <int N>
+  Eigen::Matrix<double, N, 1> vector(const char* attribute, const Eigen::Matrix<double, N, 1>& fallback,
+                                     const Range& each, const char* shape);
 
   const tinyxml2::XMLElement* element_;
   std::string file_;

@@ -23,8 +23,29 @@ Material read_material_element(ElementReader& r);
 TriangleMesh read_mesh_file(ElementReader& r, Eigen::Vector3f* bounds_min = nullptr,
                             Eigen::Vector3f* bounds_max = nullptr);
 
-// Names of robots and obstacles become file names and column names: letters, digits, '_' and '-'.
+// Names of robots and obstacles become file names and column names: letters, digits, '_' and '-',
+// at most ranges::kMaxNameLength of them.
 void check_name(ElementReader& r, const std::string& name);
+
+// Free text that goes into the summary (a project's or a material's name): UTF-8 with no control
+// characters, at most 200 bytes. The file is valid UTF-8 already, but character references
+// (&#1;, &#xD800;) can still put control characters or invalid code points into a value.
+void check_label(ElementReader& r, const char* attribute, const std::string& text);
+
+// The byte offset of the first byte of `text` that is not part of valid UTF-8 (overlong forms,
+// surrogates and code points beyond U+10FFFF included), or npos when it is all valid.
+std::size_t first_invalid_utf8(const std::string& text);
+
+// Reports, at its line, the first byte of `text` (the contents of `file`) that is not UTF-8.
+// Project and robot files are read as UTF-8, whatever their XML declaration says: a Latin-1 name
+// would otherwise reach summary.json and file names as bytes no JSON reader accepts.
+bool check_utf8(const std::string& text, const std::string& file, Diagnostics& diagnostics);
+
+// Checks that `path`, which `r`'s attribute `attribute` names as `relative`, is a regular file
+// that can be read; reports "not found", "is a folder", ... at the element. `what` names it in
+// messages ("mesh file", "firmware source").
+bool check_readable_file(ElementReader& r, const std::string& what, const std::string& relative,
+                         const std::string& path);
 
 // Reports a second `kind` child of `element`: some elements may appear only once.
 void check_at_most_one(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,

@@ -3,13 +3,18 @@
 #include <fmt/format.h>
 #include <tinyxml2.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
+#include <unordered_set>
 
 #include "scene/loader_parts.hpp"
 #include "scene/nearest_name.hpp"
 #include "scene/uart_capture.hpp"
+#include "scene/value_ranges.hpp"
 
 namespace sear {
 namespace {
@@ -20,9 +25,10 @@ const Range kAdcChannel = Range::between(0, 15, "0..15");
 const Range kUartPort = Range::between(0, 3, "0..3");
 
 int read_index(ElementReader& r, const char* attribute, const Range& range, bool required) {
-  const auto v = required ? r.required_number(attribute, range) : std::optional<double>(r.number(attribute, -1, Range::any()));
-  if (!v || *v < 0) return -1;
-  if (!range.contains(*v) || *v != static_cast<int>(*v)) {
+  // An absent optional index reads as -1, "not wired"; any number given must be in range.
+  const auto v = required || r.has(attribute) ? r.required_number(attribute, range) : std::nullopt;
+  if (!v) return -1;
+  if (*v != std::floor(*v)) {
     r.error(fmt::format("<{}> '{}' must be a whole number in {}", r.name(), attribute, range.text));
     return -1;
   }
@@ -30,9 +36,26 @@ int read_index(ElementReader& r, const char* attribute, const Range& range, bool
 }
 
 void read_mount(ElementReader& r, Eigen::Vector3d& position, double& yaw) {
-  position = r.vec3("pos", position);
-  yaw = r.number("yaw_deg", 0.0, Range::between(-360, 360, "-360..360 degrees"), "deg") * kDegToRad;
+  position = r.vec3("pos", position, ranges::kRobotXYZ);
+  yaw = r.number("yaw_deg", 0.0, ranges::kYaw, "deg") * kDegToRad;
 }
+
+// The rays a beam of this half-angle and resolution casts, as sensors/range_sensor.cpp lays them
+// out (the axis, then cones alpha, alpha - delta, ... each with rays at most delta apart). Worked
+// out here too, so that `sear check` refuses a beam the run could not build.
+double beam_ray_count(double half_angle, double resolution) {
+  double total = 1;
+  if (!(half_angle > 0)) return total;
+  const double cones = std::ceil(half_angle / resolution - 1e-9);
+  for (double k = 0; k < cones && total <= 1e6; ++k) {
+    const double ratio = std::sin(0.5 * resolution) / std::sin(half_angle - k * resolution);
+    total += ratio < 1 ? std::max(3.0, std::ceil(M_PI / std::asin(ratio) - 1e-9)) : 3.0;
+  }
+  return total;
+}
+
+// RangeSensor::kMaxRays: a typo in a resolution should not stall a run.
+constexpr double kMaxBeamRays = 100000;
 
 IrRangerDesc read_ranger(ElementReader& r, IrRangerDesc::Model model) {
   IrRangerDesc s;
@@ -41,19 +64,22 @@ IrRangerDesc read_ranger(ElementReader& r, IrRangerDesc::Model model) {
   s.name = r.required_text("name").value_or("");
   check_name(r, s.name);
   read_mount(r, s.position_m, s.yaw_rad);
-  s.pitch_rad = r.number("pitch_deg", 0.0, Range::between(-90, 90, "-90..90 degrees"), "deg") * kDegToRad;
-  // Sharp's rangers see a spot a few centimetres wide at their far end: a narrow cone.
-  s.half_angle_rad = r.number("half_angle_deg", 2.0, Range::between(0, 45, "0..45 degrees"), "deg") * kDegToRad;
-  s.resolution_rad = r.number("resolution_deg", 1.0, Range{0, 45, true, "> 0 and <= 45 degrees"}, "deg") * kDegToRad;
-  s.max_range_m = r.number("max_range", 1.5, Range{0, 100, true, "> 0 and <= 100 m"}, "m");
+  s.pitch_rad = r.number("pitch_deg", 0.0, ranges::kPitch, "deg") * kDegToRad;
+  s.half_angle_rad = r.number("half_angle_deg", 2.0, ranges::kHalfAngle, "deg") * kDegToRad;
+  s.resolution_rad = r.number("resolution_deg", 1.0, ranges::kResolution, "deg") * kDegToRad;
+  if (const double rays = beam_ray_count(s.half_angle_rad, s.resolution_rad); rays > kMaxBeamRays)
+    r.error(fmt::format("<{}> half_angle_deg {:g} with resolution_deg {:g} needs {} rays per measurement; at most {:.0f} "
+                        "(use a coarser resolution_deg)",
+                        r.name(), s.half_angle_rad / kDegToRad, s.resolution_rad / kDegToRad,
+                        rays > 1e6 ? std::string("over 1000000") : fmt::format("{:.0f}", rays), kMaxBeamRays));
+  s.max_range_m = r.number("max_range", 1.5, ranges::kMaxRange, "m");
   if (model == IrRangerDesc::Model::Gp2d12) {
     s.adc_channel = read_index(r, "adc", kAdcChannel, true);
-    s.noise_sd_v = r.number("noise_v", 0.01, Range::between(0, 1, "0..1 V"), "V");
+    s.noise_sd_v = r.number("noise_v", 0.01, ranges::kNoiseV, "V");
   } else {
     s.pin = read_index(r, "pin", kPin, true);
-    // The GP2D15's datasheet gives 24 cm typical, 21..27 cm from unit to unit.
-    s.switch_distance_m = r.number("switch_distance", 0.24, Range::between(0.21, 0.27, "0.21..0.27 m"), "m");
-    s.hysteresis_m = r.number("hysteresis", s.hysteresis_m, Range::between(0, 0.1, "0..0.1 m"), "m");
+    s.switch_distance_m = r.number("switch_distance", 0.24, ranges::kSwitchDistance, "m");
+    s.hysteresis_m = r.number("hysteresis", s.hysteresis_m, ranges::kHysteresis, "m");
   }
   r.finish();
   return s;
@@ -66,8 +92,8 @@ BumpSwitchDesc read_bump(ElementReader& r) {
   check_name(r, b.name);
   read_mount(r, b.position_m, b.yaw_rad);
   b.pin = read_index(r, "pin", kPin, true);
-  b.width_m = r.number("width", b.width_m, Range::between(0, 2, "0..2 m"), "m");
-  b.reach_m = r.number("reach", b.reach_m, Range{0, 0.2, true, "> 0 and <= 0.2 m"}, "m");
+  b.width_m = r.number("width", b.width_m, ranges::kBumpWidth, "m");
+  b.reach_m = r.number("reach", b.reach_m, ranges::kBumpReach, "m");
   r.finish();
   return b;
 }
@@ -90,15 +116,24 @@ void read_firmware(ElementReader& r, McuDesc& mcu) {
   if (has_exe == has_src) {
     r.error("<firmware> needs either 'executable' (a built firmware) or 'sources' (C files to compile)");
   } else if (has_exe) {
-    mcu.firmware_executable = path_beside(r.file(), r.text("executable", ""));
-    if (!std::filesystem::exists(mcu.firmware_executable))
-      r.error(fmt::format("firmware executable '{}' not found (looked for {})", r.text("executable", ""),
-                          mcu.firmware_executable));
+    const std::string written = r.text("executable", "");
+    mcu.firmware_executable = path_beside(r.file(), written);
+    // The run would fail only when it starts the process, after building everything else.
+    if (check_readable_file(r, "firmware executable", written, mcu.firmware_executable) &&
+        ::access(mcu.firmware_executable.c_str(), X_OK) != 0)
+      r.error(fmt::format("<firmware> firmware executable '{}' is not executable ({}); chmod +x it, or name its "
+                          "C files with 'sources'",
+                          written, mcu.firmware_executable));
   } else {
     for (const auto& source : r.names("sources")) {
       const std::string path = path_beside(r.file(), source);
-      if (!std::filesystem::exists(path))
-        r.error(fmt::format("firmware source '{}' not found (looked for {})", source, path));
+      // Each source is compiled on its own with -c: a header or any other file is no source,
+      // and headers are found through #include.
+      if (check_readable_file(r, "firmware source", source, path) &&
+          std::filesystem::path(path).extension() != ".c")
+        r.error(fmt::format("<firmware> firmware source '{}' is not a C source (a .c file); headers are found "
+                            "through #include",
+                            source));
       mcu.firmware_sources.push_back(std::filesystem::absolute(path).lexically_normal().string());
     }
     if (mcu.firmware_sources.empty()) r.error("<firmware> 'sources' names no files");
@@ -113,12 +148,14 @@ void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diag
   mcu.source = {file, r.line()};
   mcu.name = r.required_text("name").value_or("");
   check_name(r, mcu.name);
-  mcu.clock_hz = r.number("clock_hz", mcu.clock_hz, Range::between(1e3, 1e9, "1e3..1e9 Hz"), "Hz");
-  mcu.hal_call_cycles = r.number("hal_call_cycles", mcu.hal_call_cycles, Range::between(0, 1e6, "0..1e6"));
-  mcu.avcc_v = r.number("avcc", mcu.avcc_v, Range::between(1.8, 5.5, "1.8..5.5 V"), "V");
-  mcu.aref_v = r.number("aref", mcu.aref_v, Range::between(1.0, 5.5, "1.0..5.5 V"), "V");
-  mcu.console_uart = read_index(r, "console_uart", kUartPort, false);
-  if (!r.has("console_uart")) mcu.console_uart = 0;
+  mcu.clock_hz = r.number("clock_hz", mcu.clock_hz, ranges::kClock, "Hz");
+  // A chip counts whole cycles.
+  mcu.hal_call_cycles = r.whole_number("hal_call_cycles", mcu.hal_call_cycles, ranges::kHalCallCycles);
+  mcu.avcc_v = r.number("avcc", mcu.avcc_v, ranges::kAvcc, "V");
+  mcu.aref_v = r.number("aref", mcu.aref_v, ranges::kAref, "V");
+  // -1: no console (no console.log is written).
+  mcu.console_uart = static_cast<int>(
+      r.whole_number("console_uart", 0, Range::between(-1, 3, "0..3, or -1 for no console")));
   check_at_most_one(element, file, diagnostics, {"firmware"});
   if (!element.FirstChildElement("firmware")) r.error("<mcu> needs a <firmware> naming its executable or sources");
   r.children({"firmware", "gp2d12", "gp2d15", "bump", "motor", "servo", "uart"},
@@ -146,9 +183,8 @@ void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diag
                    const std::string capture = c.text("receive", "");
                    const std::string path = path_beside(file, capture);
                    if (u.loopback) c.error("<uart> receives from its own TX (loopback) or from 'receive', not both");
-                   else if (!std::filesystem::exists(path))
-                     c.error(fmt::format("UART capture '{}' not found (looked for {})", capture, path));
-                   else u.receive = read_uart_capture(path, diagnostics);
+                   else if (check_readable_file(c, "UART capture", capture, path))
+                     u.receive = read_uart_capture(path, diagnostics);
                  }
                  c.finish();
                  mcu.uarts.push_back(u);
@@ -161,22 +197,22 @@ void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics) {
   const auto fail = [&](const SourceRef& at, const std::string& message) {
     diagnostics.error(at.file, at.line, fmt::format("robot '{}': {}", robot.name, message));
   };
-  std::vector<std::string> motor_names, servo_names, mcu_names;
+  // Hash sets keep the checks linear in the number of parts.
+  std::vector<std::string> motor_names, servo_names;
+  std::unordered_set<std::string> mcu_names;
   for (const auto& m : robot.motors) motor_names.push_back(m.name);
   for (const auto& s : robot.servos) servo_names.push_back(s.name);
+  const std::unordered_set<std::string> motor_set(motor_names.begin(), motor_names.end());
+  const std::unordered_set<std::string> servo_set(servo_names.begin(), servo_names.end());
   std::map<std::string, std::string> actuator_owner;  // one MCU (or the script) drives each actuator
   for (const auto& cmd : robot.script) actuator_owner.emplace(cmd.actuator, "the robot's <script>");
 
   for (const auto& mcu : robot.mcus) {
-    if (std::find(mcu_names.begin(), mcu_names.end(), mcu.name) != mcu_names.end())
-      fail(mcu.source, fmt::format("mcu name '{}' is used twice", mcu.name));
-    mcu_names.push_back(mcu.name);
+    if (!mcu_names.insert(mcu.name).second) fail(mcu.source, fmt::format("mcu name '{}' is used twice", mcu.name));
     std::map<int, std::string> pin_use, channel_use, port_use;
-    std::vector<std::string> part_names;
+    std::unordered_set<std::string> part_names;
     const auto part = [&](const SourceRef& at, const std::string& name) {
-      if (std::find(part_names.begin(), part_names.end(), name) != part_names.end())
-        fail(at, fmt::format("mcu '{}' has two parts named '{}'", mcu.name, name));
-      part_names.push_back(name);
+      if (!part_names.insert(name).second) fail(at, fmt::format("mcu '{}' has two parts named '{}'", mcu.name, name));
     };
     const auto use = [&](std::map<int, std::string>& table, const char* what, int index, const SourceRef& at,
                          const std::string& user) {
@@ -200,16 +236,18 @@ void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics) {
       if (!fresh) fail(at, fmt::format("'{}' is driven by both {} and mcu '{}'", actuator, it->second, mcu.name));
     };
     for (const auto& m : mcu.motors) {
-      if (std::find(motor_names.begin(), motor_names.end(), m.motor) == motor_names.end())
-        fail(m.source, fmt::format("mcu '{}' wires unknown motor '{}'{}", mcu.name, m.motor, did_you_mean(m.motor, motor_names)));
+      if (!motor_set.count(m.motor))
+        fail(m.source, fmt::format("mcu '{}' wires unknown motor '{}'{}", mcu.name, m.motor,
+                                   did_you_mean(diagnostics, m.motor, motor_names)));
       own(m.source, m.motor);
       use(pin_use, "pin", m.pwm_pin, m.source, "motor " + m.motor + " pwm");
       use(pin_use, "pin", m.dir_pin, m.source, "motor " + m.motor + " dir");
       use(pin_use, "pin", m.brake_pin, m.source, "motor " + m.motor + " brake");
     }
     for (const auto& s : mcu.servos) {
-      if (std::find(servo_names.begin(), servo_names.end(), s.servo) == servo_names.end())
-        fail(s.source, fmt::format("mcu '{}' wires unknown servo '{}'{}", mcu.name, s.servo, did_you_mean(s.servo, servo_names)));
+      if (!servo_set.count(s.servo))
+        fail(s.source, fmt::format("mcu '{}' wires unknown servo '{}'{}", mcu.name, s.servo,
+                                   did_you_mean(diagnostics, s.servo, servo_names)));
       own(s.source, s.servo);
       use(pin_use, "pin", s.pin, s.source, "servo " + s.servo);
     }

@@ -29,6 +29,9 @@ std::string nearest_name(const std::string& typed, const std::vector<std::string
   std::string best;
   std::size_t best_distance = std::max<std::size_t>(2, typed.size() / 3) + 1;
   for (const auto& c : candidates) {
+    // The distance is at least the difference in length: skip what cannot beat the best so far.
+    const std::size_t length_gap = typed.size() > c.size() ? typed.size() - c.size() : c.size() - typed.size();
+    if (length_gap >= best_distance) continue;
     const std::size_t d = edit_distance(typed, c);
     if (d < best_distance) {
       best_distance = d;
@@ -41,6 +44,11 @@ std::string nearest_name(const std::string& typed, const std::vector<std::string
 std::string did_you_mean(const std::string& typed, const std::vector<std::string>& candidates) {
   const std::string best = nearest_name(typed, candidates);
   return best.empty() ? std::string() : " (did you mean '" + best + "'?)";
+}
+
+std::string did_you_mean(const Diagnostics& diagnostics, const std::string& typed,
+                         const std::vector<std::string>& candidates) {
+  return diagnostics.full() ? std::string() : did_you_mean(typed, candidates);
 }
 
 }  // namespace sear

@@ -4,13 +4,21 @@
 #include <string>
 #include <vector>
 
+#include "scene/diagnostics.hpp"
+
 namespace sear {
 
 // The candidate closest to `typed` by edit distance, or "" when none is plausibly a misspelling.
-// Hand-written: no Debian library offers a plain edit distance for C++.
+// Hand-written: no Debian library offers a plain edit distance for C++. Linear in the number of
+// candidates; a candidate whose length alone rules it out costs nothing.
 std::string nearest_name(const std::string& typed, const std::vector<std::string>& candidates);
 
 // " (did you mean 'x'?)" or "" when there is nothing close.
 std::string did_you_mean(const std::string& typed, const std::vector<std::string>& candidates);
+
+// The same, but "" once `diagnostics` keeps no more errors: a file with many misspellings
+// against many names would otherwise cost errors x names edit distances for text never shown.
+std::string did_you_mean(const Diagnostics& diagnostics, const std::string& typed,
+                         const std::vector<std::string>& candidates);
 
 }  // namespace sear

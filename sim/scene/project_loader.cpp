@@ -8,14 +8,22 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <unordered_map>
 
 #include "scene/element_reader.hpp"
 #include "scene/loader_parts.hpp"
+#include "scene/value_ranges.hpp"
 
 namespace sear {
 
 std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::string& path,
                                              Diagnostics& diagnostics) {
+  // The file's name goes into summary.json as the project's file: JSON holds only UTF-8.
+  if (first_invalid_utf8(path) != std::string::npos) {
+    diagnostics.error(path, 0, "the project file's name is not valid UTF-8; rename it");
+    return std::nullopt;
+  }
+  if (!check_utf8(xml, path, diagnostics)) return std::nullopt;
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
     diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
@@ -31,6 +39,7 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
   project.file = path;
   ElementReader r(root, path, diagnostics);
   project.name = r.text("name", std::filesystem::path(path).stem().string());
+  check_label(r, "name", project.name);
 
   // The world comes first whatever the order in the file: robots refer to its materials and origin.
   const tinyxml2::XMLElement* world = root->FirstChildElement("world");
@@ -43,13 +52,10 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
       if (&child != world) diagnostics.error(path, child.GetLineNum(), "a project has one <world>");
     } else if (kind == "run") {
       ElementReader c(&child, path, diagnostics);
-      project.run.duration_s =
-          c.number("duration", project.run.duration_s, Range{0, kMaxTime_s, true, "> 0 and <= 1e7 s"}, "s");
+      project.run.duration_s = c.number("duration", project.run.duration_s, ranges::kDuration, "s");
       project.run.seed = static_cast<std::uint64_t>(
-          c.number("seed", static_cast<double>(project.run.seed), Range::between(0, 4294967295.0, "0..4294967295")));
-      project.run.trace_rate_hz =
-          c.number("trace_rate", project.run.trace_rate_hz,
-                   Range::between(kMinTraceRate_hz, kMaxTraceRate_hz, "0.01..1e6 Hz"), "Hz");
+          c.whole_number("seed", static_cast<double>(project.run.seed), ranges::kSeed));
+      project.run.trace_rate_hz = c.number("trace_rate", project.run.trace_rate_hz, ranges::kTraceRate, "Hz");
       c.finish();
     } else {
       RobotDesc robot;
@@ -61,12 +67,15 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
   check_at_most_one(*root, path, diagnostics, {"run"});
   for (const auto& robot : project.robots) validate_robot(robot, diagnostics);
 
-  // Collision reports name what was hit: every obstacle and robot needs a name of its own.
-  std::vector<std::string> names;
+  // Collision reports name what was hit: every obstacle and robot needs a name of its own. A hash
+  // map keeps this linear: a generated world of 160 000 boxes is checked in well under a second.
+  std::unordered_map<std::string, int> first_line;
   const auto unique = [&](const std::string& name, int line, const std::string& what) {
-    if (std::find(names.begin(), names.end(), name) != names.end())
-      diagnostics.error(path, line, fmt::format("{} name '{}' is already used by another obstacle or robot", what, name));
-    names.push_back(name);
+    const auto [it, fresh] = first_line.emplace(name, line);
+    if (!fresh)
+      diagnostics.error(path, line,
+                        fmt::format("{} name '{}' is already used by another obstacle or robot (line {})", what, name,
+                                    it->second));
   };
   for (const auto& b : project.world.boxes) unique(b.name, b.line, "box");
   for (const auto& t : project.world.trees) unique(t.name, t.line, "tree");

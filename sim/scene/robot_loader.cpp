@@ -5,15 +5,27 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "scene/loader_parts.hpp"
 #include "scene/mesh_loader.hpp"
 #include "scene/nearest_name.hpp"
+#include "scene/value_ranges.hpp"
 
 namespace sear {
 namespace {
 
 constexpr double kRpmToRadps = 2.0 * M_PI / 60.0;
+
+bool read_text_file(const std::string& path, std::string& text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream all;
+  all << in.rdbuf();
+  text = all.str();
+  return !in.bad();
+}
 
 std::vector<std::string> material_names(const WorldDesc& world) {
   std::vector<std::string> names;
@@ -21,20 +33,25 @@ std::vector<std::string> material_names(const WorldDesc& world) {
   return names;
 }
 
-std::string read_material(ElementReader& r, const WorldDesc& world) {
+bool has_material(const WorldDesc& world, const std::string& name) {
+  return std::any_of(world.materials.begin(), world.materials.end(),
+                     [&](const Material& m) { return m.name == name; });
+}
+
+std::string read_material(ElementReader& r, const WorldDesc& world, const Diagnostics& diagnostics) {
   const std::string name = r.text("material", "default");
-  const auto names = material_names(world);
-  if (std::find(names.begin(), names.end(), name) == names.end())
-    r.error(fmt::format("<{}> uses unknown material '{}'{}", r.name(), name, did_you_mean(name, names)));
+  if (!has_material(world, name))
+    r.error(fmt::format("<{}> uses unknown material '{}'{}", r.name(), name,
+                        did_you_mean(diagnostics, name, material_names(world))));
   return name;
 }
 
-void read_chassis(ElementReader& r, const WorldDesc& world, ChassisDesc& chassis) {
+void read_chassis(ElementReader& r, const WorldDesc& world, const Diagnostics& diagnostics, ChassisDesc& chassis) {
   chassis.shape = r.choice("shape", {"box", "mesh"}, 0) == 0 ? ChassisDesc::Shape::Box : ChassisDesc::Shape::Mesh;
-  chassis.mass_kg = r.required_number("mass", Range::positive(), "kg").value_or(chassis.mass_kg);
-  chassis.material = read_material(r, world);
+  chassis.mass_kg = r.required_number("mass", ranges::kChassisMass, "kg").value_or(chassis.mass_kg);
+  chassis.material = read_material(r, world, diagnostics);
   if (chassis.shape == ChassisDesc::Shape::Box) {
-    chassis.size_m = r.vec3("size", chassis.size_m, Range::positive());
+    chassis.size_m = r.vec3("size", chassis.size_m, ranges::kChassisSide);
     chassis.bottom_z_m = -0.5 * chassis.size_m.z();
   } else {
     // The mesh's origin is taken as the chassis' centre of mass; its box gives size and inertia.
@@ -42,23 +59,27 @@ void read_chassis(ElementReader& r, const WorldDesc& world, ChassisDesc& chassis
     chassis.mesh = read_mesh_file(r, &lo, &hi);
     if (!chassis.mesh.indices.empty()) {
       chassis.size_m = (hi - lo).cast<double>();
+      // The mesh's bounding box gives the chassis' inertia: a flat or tiny mesh would give none.
+      if (!(chassis.size_m.minCoeff() >= ranges::kChassisSide.min && chassis.size_m.maxCoeff() <= ranges::kChassisSide.max))
+        r.error(fmt::format("<chassis> mesh is {:.4g} x {:.4g} x {:.4g} m once scaled; each side must be in {}",
+                            chassis.size_m.x(), chassis.size_m.y(), chassis.size_m.z(), ranges::kChassisSide.text));
       chassis.bottom_z_m = lo.z();
     }
   }
   r.finish();
 }
 
-WheelDesc read_wheel(ElementReader& r, const WorldDesc& world) {
+WheelDesc read_wheel(ElementReader& r, const WorldDesc& world, const Diagnostics& diagnostics) {
   WheelDesc w;
   w.source = {r.file(), r.line()};
   w.name = r.required_text("name").value_or("");
   check_name(r, w.name);
-  w.position_m = r.vec3("pos", w.position_m);
-  w.radius_m = r.required_number("radius", Range::positive(), "m").value_or(w.radius_m);
-  w.width_m = r.number("width", w.width_m, Range::positive(), "m");
-  w.mass_kg = r.number("mass", w.mass_kg, Range::positive(), "kg");
+  w.position_m = r.vec3("pos", w.position_m, ranges::kRobotXYZ);
+  w.radius_m = r.required_number("radius", ranges::kWheelSize, "m").value_or(w.radius_m);
+  w.width_m = r.number("width", w.width_m, ranges::kWheelSize, "m");
+  w.mass_kg = r.number("mass", w.mass_kg, ranges::kWheelMass, "kg");
   w.steered = r.choice("steered", {"false", "true"}, 0) == 1;
-  w.material = read_material(r, world);
+  w.material = read_material(r, world, diagnostics);
   r.finish();
   return w;
 }
@@ -70,17 +91,18 @@ MotorDesc read_motor(ElementReader& r) {
   check_name(r, m.name);
   m.wheels = r.names("wheels");
   if (m.wheels.empty()) r.error("<motor> needs attribute 'wheels' (the names of the wheels it drives)");
-  m.stall_torque_nm = r.required_number("stall_torque", Range::positive(), "N*m").value_or(m.stall_torque_nm);
+  m.stall_torque_nm = r.required_number("stall_torque", ranges::kStallTorque, "N*m").value_or(m.stall_torque_nm);
   if (r.has("no_load_rpm")) {
-    m.no_load_speed_radps = r.number("no_load_rpm", 0, Range::positive(), "rpm") * kRpmToRadps;
+    m.no_load_speed_radps = r.number("no_load_rpm", m.no_load_speed_radps / kRpmToRadps, ranges::kNoLoadRpm, "rpm") *
+                            kRpmToRadps;
   } else {
-    m.no_load_speed_radps =
-        r.required_number("no_load_speed", Range::positive(), "rad/s (or give no_load_rpm)").value_or(1);
+    m.no_load_speed_radps = r.required_number("no_load_speed", ranges::kNoLoadSpeed, "rad/s (or give no_load_rpm)")
+                                .value_or(m.no_load_speed_radps);
   }
   // Without a rating the figures are taken as measured at the supply voltage.
-  m.supply_voltage_v = r.number("supply_voltage", m.supply_voltage_v, Range::positive(), "V");
-  m.rated_voltage_v = r.number("rated_voltage", m.supply_voltage_v, Range::positive(), "V");
-  m.gear_friction_nm = r.number("gear_friction", m.gear_friction_nm, Range::non_negative(), "N*m");
+  m.supply_voltage_v = r.number("supply_voltage", m.supply_voltage_v, ranges::kVoltage, "V");
+  m.rated_voltage_v = r.number("rated_voltage", m.supply_voltage_v, ranges::kVoltage, "V");
+  m.gear_friction_nm = r.number("gear_friction", m.gear_friction_nm, ranges::kGearFriction, "N*m");
   if (m.gear_friction_nm >= m.stall_torque_at_supply_nm())
     r.error("<motor> 'gear_friction' must be below the stall torque at the supply voltage, or the motor could never turn");
   r.finish();
@@ -98,19 +120,17 @@ ServoDesc read_servo(ElementReader& r) {
   if (s.wheels.empty())
     r.error(s.kind == ServoDesc::Kind::Positional ? "<servo kind=\"positional\"> needs 'steers' (wheel names)"
                                                   : "<servo kind=\"continuous\"> needs 'wheels' (wheel names)");
-  const Range pulse = Range::between(400, 2600, "400..2600 us");
-  s.min_pulse_us = r.number("min_pulse_us", s.min_pulse_us, pulse, "us");
-  s.max_pulse_us = r.number("max_pulse_us", s.max_pulse_us, pulse, "us");
+  s.min_pulse_us = r.number("min_pulse_us", s.min_pulse_us, ranges::kPulse, "us");
+  s.max_pulse_us = r.number("max_pulse_us", s.max_pulse_us, ranges::kPulse, "us");
   if (s.max_pulse_us <= s.min_pulse_us) r.error("<servo> 'max_pulse_us' must be above 'min_pulse_us'");
-  s.torque_nm = r.number("torque", s.torque_nm, Range::positive(), "N*m");
+  s.torque_nm = r.number("torque", s.torque_nm, ranges::kServoTorque, "N*m");
   if (s.kind == ServoDesc::Kind::Positional) {
-    // Full travel; steering beyond +-85 degrees has no turning centre left to aim at.
-    s.range_rad = r.number("range_deg", 60.0, Range::between(1, 170, "1..170 degrees"), "deg") * kDegToRad;
+    s.range_rad = r.number("range_deg", 60.0, ranges::kServoTravel, "deg") * kDegToRad;
     // Hobby servo datasheets give speed as seconds per 60 degrees.
-    const double s_per_60 = r.number("speed_s_per_60deg", 0.17, Range::positive(), "s");
+    const double s_per_60 = r.number("speed_s_per_60deg", 0.17, ranges::kServoSlew, "s");
     s.speed_radps = (60.0 * kDegToRad) / s_per_60;
   } else {
-    s.speed_radps = r.number("no_load_rpm", 50.0, Range::positive(), "rpm") * kRpmToRadps;
+    s.speed_radps = r.number("no_load_rpm", 50.0, ranges::kServoRpm, "rpm") * kRpmToRadps;
   }
   r.finish();
   return s;
@@ -120,18 +140,17 @@ void read_pose(ElementReader& r, const WorldDesc& world, RobotDesc& robot) {
   const bool geo = r.has("latitude") || r.has("longitude");
   if (geo) {
     GeoPoint p;
-    p.latitude_deg = r.required_number("latitude", Range::between(-90, 90, "-90..90 degrees"), "deg").value_or(0);
-    p.longitude_deg =
-        r.required_number("longitude", Range::between(-180, 180, "-180..180 degrees"), "deg").value_or(0);
+    p.latitude_deg = r.required_number("latitude", ranges::kLatitude, "deg").value_or(0);
+    p.longitude_deg = r.required_number("longitude", ranges::kLongitude, "deg").value_or(0);
     p.altitude_m = world.gps_origin.altitude_m;
     const Enu e = LocalTangentPlane(world.gps_origin).to_enu(p);
     robot.start_xy_m = {e.east_m, e.north_m};
     if (robot.start_xy_m.norm() > 100e3)
       r.error("<pose> is more than 100 km from the world's <gps_origin>; is the origin set?");
   } else {
-    robot.start_xy_m = {r.number("x", 0.0, Range::any(), "m"), r.number("y", 0.0, Range::any(), "m")};
+    robot.start_xy_m = {r.number("x", 0.0, ranges::kWorldXY, "m"), r.number("y", 0.0, ranges::kWorldXY, "m")};
   }
-  robot.start_yaw_rad = r.number("yaw_deg", 0.0) * kDegToRad;
+  robot.start_yaw_rad = r.number("yaw_deg", 0.0, ranges::kYaw, "deg") * kDegToRad;
   r.finish();
 }
 
@@ -144,9 +163,7 @@ void read_robot_parts(ElementReader& r, const tinyxml2::XMLElement& element, Wor
   for (auto* m = element.FirstChildElement("material"); m; m = m->NextSiblingElement("material")) {
     ElementReader c(m, r.file(), diagnostics);
     const Material material = read_material_element(c);
-    const auto names = material_names(world);
-    if (!material.name.empty() && std::find(names.begin(), names.end(), material.name) == names.end())
-      world.materials.push_back(material);
+    if (!material.name.empty() && !has_material(world, material.name)) world.materials.push_back(material);
   }
   check_at_most_one(element, r.file(), diagnostics, {"chassis", "pose", "script"});
   if (!element.FirstChildElement("chassis")) r.error("<robot> needs a <chassis>");
@@ -155,12 +172,12 @@ void read_robot_parts(ElementReader& r, const tinyxml2::XMLElement& element, Wor
     const std::string kind = child.Name();
     if (kind == "material") return;  // read above, before the parts that use them
     if (kind == "pose") read_pose(c, world, robot);
-    else if (kind == "chassis") read_chassis(c, world, robot.chassis);
-    else if (kind == "wheel") robot.wheels.push_back(read_wheel(c, world));
+    else if (kind == "chassis") read_chassis(c, world, diagnostics, robot.chassis);
+    else if (kind == "wheel") robot.wheels.push_back(read_wheel(c, world, diagnostics));
     else if (kind == "caster") {
       CasterDesc caster;
-      caster.position_m = c.vec3("pos", caster.position_m);
-      caster.radius_m = c.required_number("radius", Range::positive(), "m").value_or(caster.radius_m);
+      caster.position_m = c.vec3("pos", caster.position_m, ranges::kRobotXYZ);
+      caster.radius_m = c.required_number("radius", ranges::kWheelSize, "m").value_or(caster.radius_m);
       c.finish();
       robot.casters.push_back(caster);
     } else if (kind == "motor") robot.motors.push_back(read_motor(c));
@@ -186,13 +203,13 @@ void read_script(const tinyxml2::XMLElement& element, const std::string& file, D
     ElementReader c(&child, file, diagnostics);
     ScriptCommand cmd;
     cmd.source = {file, c.line()};
-    cmd.t_s = c.required_number("t", Range::between(0, kMaxTime_s, "0..1e7 s"), "s").value_or(0);
+    cmd.t_s = c.required_number("t", ranges::kScriptTime, "s").value_or(0);
     cmd.actuator = c.required_text("name").value_or("");
     cmd.is_servo = std::string(child.Name()) == "servo";
     if (cmd.is_servo) {
-      cmd.pulse_us = c.required_number("pulse_us", Range::between(400, 2600, "400..2600 us"), "us").value_or(1500);
+      cmd.pulse_us = c.required_number("pulse_us", ranges::kPulse, "us").value_or(1500);
     } else {
-      cmd.duty = c.number("duty", 0.0, Range::between(0, 1, "0..1"));
+      cmd.duty = c.number("duty", 0.0, ranges::kDuty);
       cmd.direction = static_cast<MotorDirection>(c.choice("dir", {"forward", "reverse", "brake", "coast"}, 0));
     }
     c.finish();
@@ -216,12 +233,17 @@ bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& 
     // A reusable robot file: its <robot> holds the parts; the project adds pose and script.
     const std::string path = path_beside(file, included);
     tinyxml2::XMLDocument doc;
-    if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) {
+    std::string text;
+    if (!check_readable_file(r, "robot file", included, path)) {
       parts_read = false;
-      if (doc.ErrorID() == tinyxml2::XML_ERROR_FILE_NOT_FOUND)
-        r.error(fmt::format("robot file '{}' not found (looked for {})", included, path));
-      else
-        diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
+    } else if (!read_text_file(path, text)) {
+      parts_read = false;
+      r.error(fmt::format("robot file '{}' cannot be read ({})", included, path));
+    } else if (!check_utf8(text, path, diagnostics)) {
+      parts_read = false;
+    } else if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
+      parts_read = false;
+      diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
     } else if (!doc.RootElement() || std::string(doc.RootElement()->Name()) != "robot") {
       parts_read = false;
       diagnostics.error(path, doc.RootElement() ? doc.RootElement()->GetLineNum() : 1,

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <map>
+#include <unordered_set>
 
 #include "scene/loader_parts.hpp"
 #include "scene/nearest_name.hpp"
@@ -14,19 +15,21 @@ void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics) {
     diagnostics.error(at.file, at.line, fmt::format("robot '{}': {}", robot.name, message));
   };
 
+  // Names are looked up in hash sets, so that checks stay linear however many parts a robot has.
   std::vector<std::string> wheel_names;
+  std::unordered_set<std::string> wheel_set;
   for (const auto& w : robot.wheels) {
-    if (std::find(wheel_names.begin(), wheel_names.end(), w.name) != wheel_names.end())
-      fail(w.source, fmt::format("wheel name '{}' is used twice", w.name));
+    if (!wheel_set.insert(w.name).second) fail(w.source, fmt::format("wheel name '{}' is used twice", w.name));
     wheel_names.push_back(w.name);
   }
 
   // Each wheel is driven by at most one actuator; every actuator names real wheels.
   std::map<std::string, std::string> driven_by;
-  std::vector<std::string> actuator_names;
+  std::unordered_set<std::string> actuator_names;
   const auto claim = [&](const SourceRef& at, const std::string& actuator, const std::string& wheel, bool steer) {
-    if (std::find(wheel_names.begin(), wheel_names.end(), wheel) == wheel_names.end()) {
-      fail(at, fmt::format("'{}' names unknown wheel '{}'{}", actuator, wheel, did_you_mean(wheel, wheel_names)));
+    if (!wheel_set.count(wheel)) {
+      fail(at, fmt::format("'{}' names unknown wheel '{}'{}", actuator, wheel,
+                           did_you_mean(diagnostics, wheel, wheel_names)));
       return;
     }
     const std::string key = (steer ? "steer:" : "drive:") + wheel;
@@ -35,9 +38,7 @@ void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics) {
     driven_by[key] = actuator;
   };
   const auto name_actuator = [&](const SourceRef& at, const std::string& name) {
-    if (std::find(actuator_names.begin(), actuator_names.end(), name) != actuator_names.end())
-      fail(at, fmt::format("actuator name '{}' is used twice", name));
-    actuator_names.push_back(name);
+    if (!actuator_names.insert(name).second) fail(at, fmt::format("actuator name '{}' is used twice", name));
   };
   for (const auto& m : robot.motors) {
     name_actuator(m.source, m.name);
@@ -86,18 +87,15 @@ void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics) {
       fail(w.source, fmt::format("steered wheel '{}' has no positional servo steering it", w.name));
 
   validate_mcus(robot, diagnostics);
+  std::vector<std::string> motor_names, servo_names;
+  for (const auto& m : robot.motors) motor_names.push_back(m.name);
+  for (const auto& s : robot.servos) servo_names.push_back(s.name);
+  const std::unordered_set<std::string> motor_set(motor_names.begin(), motor_names.end());
+  const std::unordered_set<std::string> servo_set(servo_names.begin(), servo_names.end());
   for (const auto& cmd : robot.script) {
-    const auto motor = std::find_if(robot.motors.begin(), robot.motors.end(),
-                                    [&](const MotorDesc& m) { return m.name == cmd.actuator; });
-    const auto servo = std::find_if(robot.servos.begin(), robot.servos.end(),
-                                    [&](const ServoDesc& s) { return s.name == cmd.actuator; });
-    if (cmd.is_servo ? servo == robot.servos.end() : motor == robot.motors.end()) {
-      std::vector<std::string> names;
-      if (cmd.is_servo) for (const auto& s : robot.servos) names.push_back(s.name);
-      else for (const auto& m : robot.motors) names.push_back(m.name);
+    if (!(cmd.is_servo ? servo_set : motor_set).count(cmd.actuator))
       fail(cmd.source, fmt::format("script names unknown {} '{}'{}", cmd.is_servo ? "servo" : "motor", cmd.actuator,
-                                   did_you_mean(cmd.actuator, names)));
-    }
+                                   did_you_mean(diagnostics, cmd.actuator, cmd.is_servo ? servo_names : motor_names)));
   }
 }
 

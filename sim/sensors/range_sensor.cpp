@@ -3,13 +3,16 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace sear {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // A heightfield reports every terrain cell plane a ray crosses, unsorted; room for a ray skimming
 // many hills. Other geoms report at most one contact per ray.
@@ -42,6 +45,19 @@ bool segment_meets_box(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir
 std::size_t cone_count(double half_angle, double resolution) {
   // The small margin keeps alpha = k delta from gaining a degenerate cone of half-angle ~1e-17.
   return half_angle > 0 ? static_cast<std::size_t>(std::ceil(half_angle / resolution - 1e-9)) : 0;
+}
+
+// The mount's pose in the world: a body's, or the world frame itself for none.
+void mount_pose(dBodyID body, Eigen::Vector3d& position, Eigen::Matrix3d& rotation) {
+  if (!body) {
+    position.setZero();
+    rotation.setIdentity();
+    return;
+  }
+  const dReal* p = dBodyGetPosition(body);
+  const dReal* r = dBodyGetRotation(body);  // 3x4, row-major
+  position << p[0], p[1], p[2];
+  rotation << r[0], r[1], r[2], r[4], r[5], r[6], r[8], r[9], r[10];
 }
 
 }  // namespace
@@ -93,50 +109,35 @@ RangeSensor::RangeSensor(const RangeBeam& beam) : beam_(beam) {
   world_directions_.resize(directions_.size());
 }
 
-void RangeSensor::gather(dSpaceID space, const double bounds[6], int ignore_entity) const {
+void RangeSensor::gather(dSpaceID space, const double bounds[6], int ignore_entity, std::vector<Candidate>& out) {
   const int count = dSpaceGetNumGeoms(space);
   for (int i = 0; i < count; ++i) {  // sequential indices are O(1) each in ODE's spaces
     dGeomID geom = dSpaceGetGeom(space, i);
     if (dGeomIsSpace(geom)) {
-      gather(reinterpret_cast<dSpaceID>(geom), bounds, ignore_entity);
+      gather(reinterpret_cast<dSpaceID>(geom), bounds, ignore_entity, out);
       continue;
     }
     // Untagged geoms take part in no contact (PhysicsWorld::collide_pair): not solid to a ray either.
     const auto* tag = static_cast<const GeomTag*>(dGeomGetData(geom));
     if (!tag || (ignore_entity >= 0 && tag->entity == ignore_entity)) continue;
+    if (tag->role == GeomRole::Tread) continue;  // meets only the ground; rays see the tyre
     Candidate c{geom, tag->entity, {}};
     dGeomGetAABB(geom, c.aabb);  // brings a moved body's box up to date first
     bool overlaps = true;
     for (int axis = 0; axis < 3 && overlaps; ++axis)
       overlaps = c.aabb[2 * axis] <= bounds[2 * axis + 1] + kAabbSlack_m &&
                  c.aabb[2 * axis + 1] >= bounds[2 * axis] - kAabbSlack_m;
-    if (overlaps) candidates_.push_back(c);
+    if (overlaps) out.push_back(c);
   }
 }
 
-RangeReading RangeSensor::measure(const PhysicsWorld& physics, dBodyID mount_body, int ignore_entity) const {
-  if (!mount_body) return measure(physics, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), ignore_entity);
-  const dReal* p = dBodyGetPosition(mount_body);
-  const dReal* r = dBodyGetRotation(mount_body);  // 3x4, row-major
-  Eigen::Matrix3d rotation;
-  rotation << r[0], r[1], r[2], r[4], r[5], r[6], r[8], r[9], r[10];
-  return measure(physics, Eigen::Vector3d(p[0], p[1], p[2]), rotation, ignore_entity);
-}
-
-RangeReading RangeSensor::measure(const PhysicsWorld& physics, const Eigen::Vector3d& mount_position_m,
-                                  const Eigen::Matrix3d& mount_rotation, int ignore_entity) const {
-  if (!ray_) {
-    ray_.reset(dCreateRay(nullptr, beam_.max_range_m));
-    // Every triangle a ray crosses is considered and the nearest kept; both faces count.
-    dGeomRaySetFirstContact(ray_.get(), 0);
-    dGeomRaySetBackfaceCull(ray_.get(), 0);
-    dGeomRaySetClosestHit(ray_.get(), 1);
-  }
+Eigen::Vector3d RangeSensor::place(const Eigen::Vector3d& mount_position_m, const Eigen::Matrix3d& mount_rotation,
+                                   double bounds[6]) const {
   const Eigen::Vector3d origin = mount_position_m + mount_rotation * beam_.position_m;
-
-  // One pass over the spaces per call, keeping only geoms whose boxes meet the beam's, instead of
-  // one per ray: ODE's spaces test a ray against every geom they hold.
-  double bounds[6] = {origin.x(), origin.x(), origin.y(), origin.y(), origin.z(), origin.z()};
+  for (int axis = 0; axis < 3; ++axis) {
+    bounds[2 * axis] = std::min(bounds[2 * axis], origin[axis]);
+    bounds[2 * axis + 1] = std::max(bounds[2 * axis + 1], origin[axis]);
+  }
   for (std::size_t i = 0; i < directions_.size(); ++i) {
     world_directions_[i] = mount_rotation * directions_[i];
     const Eigen::Vector3d end = origin + beam_.max_range_m * world_directions_[i];
@@ -145,10 +146,18 @@ RangeReading RangeSensor::measure(const PhysicsWorld& physics, const Eigen::Vect
       bounds[2 * axis + 1] = std::max(bounds[2 * axis + 1], end[axis]);
     }
   }
-  candidates_.clear();
-  gather(physics.static_space(), bounds, ignore_entity);
-  gather(physics.dynamic_space(), bounds, ignore_entity);
+  return origin;
+}
 
+RangeReading RangeSensor::cast(const Eigen::Vector3d& origin, const std::vector<Candidate>& candidates,
+                               bool first_hit_will_do) const {
+  if (!ray_) {
+    ray_.reset(dCreateRay(nullptr, beam_.max_range_m));
+    // Every triangle a ray crosses is considered and the nearest kept; both faces count.
+    dGeomRaySetFirstContact(ray_.get(), 0);
+    dGeomRaySetBackfaceCull(ray_.get(), 0);
+    dGeomRaySetClosestHit(ray_.get(), 1);
+  }
   RangeReading reading;
   reading.distance_m = beam_.max_range_m;
   // Only a hit closer than the best so far can change the answer: each hit shortens every later ray.
@@ -156,7 +165,7 @@ RangeReading RangeSensor::measure(const PhysicsWorld& physics, const Eigen::Vect
   dContactGeom contacts[kMaxContacts];
   for (const Eigen::Vector3d& dir : world_directions_) {
     bool ray_placed = false;
-    for (const Candidate& c : candidates_) {
+    for (const Candidate& c : candidates) {
       if (!segment_meets_box(origin, dir, limit, c.aabb)) continue;
       if (!ray_placed) {
         dGeomRaySet(ray_.get(), origin.x(), origin.y(), origin.z(), dir.x(), dir.y(), dir.z());
@@ -176,11 +185,70 @@ RangeReading RangeSensor::measure(const PhysicsWorld& physics, const Eigen::Vect
         reading.point_m = point;
         reading.entity = c.entity;
         limit = t;
+        if (first_hit_will_do) return reading;
       }
     }
   }
   reading.below_min = reading.hit && reading.distance_m < beam_.min_range_m;
   return reading;
+}
+
+RangeReading RangeSensor::measure(const PhysicsWorld& physics, dBodyID mount_body, int ignore_entity) const {
+  Eigen::Vector3d position;
+  Eigen::Matrix3d rotation;
+  mount_pose(mount_body, position, rotation);
+  return measure(physics, position, rotation, ignore_entity);
+}
+
+RangeReading RangeSensor::measure(const PhysicsWorld& physics, const Eigen::Vector3d& mount_position_m,
+                                  const Eigen::Matrix3d& mount_rotation, int ignore_entity) const {
+  // One pass over the spaces per call, keeping only geoms whose boxes meet the beam's, instead of
+  // one per ray: ODE's spaces test a ray against every geom they hold.
+  double bounds[6] = {kInf, -kInf, kInf, -kInf, kInf, -kInf};
+  const Eigen::Vector3d origin = place(mount_position_m, mount_rotation, bounds);
+  candidates_.clear();
+  gather(physics.static_space(), bounds, ignore_entity, candidates_);
+  gather(physics.dynamic_space(), bounds, ignore_entity, candidates_);
+  return cast(origin, candidates_, false);
+}
+
+RangeSensorSet::RangeSensorSet(std::vector<RangeSensor> sensors) : sensors_(std::move(sensors)) {
+  origins_.resize(sensors_.size());
+}
+
+RangeSensorSet::RangeSensorSet(const std::vector<RangeBeam>& beams) {
+  sensors_.reserve(beams.size());
+  for (const RangeBeam& beam : beams) sensors_.emplace_back(beam);
+  origins_.resize(sensors_.size());
+}
+
+bool RangeSensorSet::any_hit(const PhysicsWorld& physics, dBodyID mount_body, int ignore_entity) const {
+  Eigen::Vector3d position;
+  Eigen::Matrix3d rotation;
+  mount_pose(mount_body, position, rotation);
+  return any_hit(physics, position, rotation, ignore_entity);
+}
+
+bool RangeSensorSet::any_hit(const PhysicsWorld& physics, const Eigen::Vector3d& mount_position_m,
+                             const Eigen::Matrix3d& mount_rotation, int ignore_entity) const {
+  double bounds[6] = {kInf, -kInf, kInf, -kInf, kInf, -kInf};
+  for (std::size_t i = 0; i < sensors_.size(); ++i) origins_[i] = sensors_[i].place(mount_position_m, mount_rotation, bounds);
+  candidates_.clear();
+  RangeSensor::gather(physics.static_space(), bounds, ignore_entity, candidates_);
+  RangeSensor::gather(physics.dynamic_space(), bounds, ignore_entity, candidates_);
+  // Short rays wholly above the highest terrain sample under them cannot reach the ground: most
+  // steps of a bump lever on open ground are then spared ten ray-heightfield tests.
+  if (bounds[4] > physics.terrain_ceiling(bounds)) {
+    dGeomID terrain = physics.terrain_geom();
+    candidates_.erase(std::remove_if(candidates_.begin(), candidates_.end(),
+                                     [terrain](const RangeSensor::Candidate& c) { return c.geom == terrain; }),
+                      candidates_.end());
+  }
+  // A geom near one beam but not another is skipped per ray by the box test in cast(): the
+  // shared list finds the same hits as each sensor's own.
+  for (std::size_t i = 0; i < sensors_.size(); ++i)
+    if (sensors_[i].cast(origins_[i], candidates_, true).hit) return true;
+  return false;
 }
 
 }  // namespace sear

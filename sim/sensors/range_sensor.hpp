@@ -77,6 +77,8 @@ class RangeSensor {
                        const Eigen::Matrix3d& mount_rotation, int ignore_entity) const;
 
  private:
+  friend class RangeSensorSet;
+
   struct Candidate {
     dGeomID geom;
     int entity;
@@ -86,7 +88,17 @@ class RangeSensor {
     void operator()(dGeomID ray) const;
   };
 
-  void gather(dSpaceID space, const double bounds[6], int ignore_entity) const;
+  // Turns the rays into the world for this mount and widens `bounds` (ODE's AABB order) to hold
+  // every ray from its origin to its max range; returns the origin.
+  Eigen::Vector3d place(const Eigen::Vector3d& mount_position_m, const Eigen::Matrix3d& mount_rotation,
+                        double bounds[6]) const;
+  // Every tagged geom of `space` (and the spaces in it) whose box meets `bounds`, but those of
+  // `ignore_entity`, appended to `out` in the space's order.
+  static void gather(dSpaceID space, const double bounds[6], int ignore_entity, std::vector<Candidate>& out);
+  // The closest hit of the placed rays among `candidates`; with `first_hit_will_do` it stops at
+  // the first hit it finds, which then need not be the closest.
+  RangeReading cast(const Eigen::Vector3d& origin, const std::vector<Candidate>& candidates,
+                    bool first_hit_will_do) const;
 
   RangeBeam beam_;
   std::vector<Eigen::Vector3d> directions_;
@@ -94,6 +106,31 @@ class RangeSensor {
   mutable std::unique_ptr<dxGeom, RayDeleter> ray_;
   mutable std::vector<Eigen::Vector3d> world_directions_;  // per call, sized once
   mutable std::vector<Candidate> candidates_;              // geoms near the beam, per call
+};
+
+// Beams on one mount that are asked together whether any of them touches something: a bump
+// lever's parallel rays. One pass over the world's geoms gathers what lies near all of them, where
+// each RangeSensor::measure() would make its own pass (a lever of ten rays walked every geom of the
+// world ten times a step, and with every robot's parts in it that grows with the square of the
+// number of robots); the rays then meet exactly the geoms and hits they would meet one by one.
+class RangeSensorSet {
+ public:
+  explicit RangeSensorSet(std::vector<RangeSensor> sensors);
+  // Throws as RangeSensor's constructor does for any of the beams.
+  explicit RangeSensorSet(const std::vector<RangeBeam>& beams);
+
+  const std::vector<RangeSensor>& sensors() const { return sensors_; }
+
+  // True exactly when measure(physics, mount_body, ignore_entity).hit is true for some sensor:
+  // a surface lies within [0, max range] of one of the rays. Stops at the first ray that hits.
+  bool any_hit(const PhysicsWorld& physics, dBodyID mount_body, int ignore_entity) const;
+  bool any_hit(const PhysicsWorld& physics, const Eigen::Vector3d& mount_position_m,
+               const Eigen::Matrix3d& mount_rotation, int ignore_entity) const;
+
+ private:
+  std::vector<RangeSensor> sensors_;
+  mutable std::vector<Eigen::Vector3d> origins_;                // per call, one per sensor
+  mutable std::vector<RangeSensor::Candidate> candidates_;      // geoms near any beam, per call
 };
 
 }  // namespace sear

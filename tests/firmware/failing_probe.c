@@ -3,6 +3,7 @@
  * calls the HAL), 3 hangs without HAL calls, 4 asks for PWM on a pin without a timer. */
 #include <hal/hal.h>
 #include <signal.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 volatile int *volatile nowhere;
@@ -27,6 +28,7 @@ int main(void) {
   hal_init();
   uart_begin(0, 115200);
   uart_print(0, "about to fail\n");
+  printf("on its own stdout before failing\n"); /* no newline flush on a file: unbuffered, or lost */
   delay_ms(300);
 #if FAIL_HOW == 1
   crash();

@@ -2,8 +2,8 @@
 
 #include <fmt/format.h>
 
-#include <cerrno>
-#include <cstring>
+#include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 namespace sear {
@@ -12,73 +12,70 @@ namespace {
 // VCD identifiers: one printable character per pin, from '!' on (IEEE 1364 section 18.2).
 char vcd_id(int pin) { return static_cast<char>('!' + pin); }
 
-void put(std::FILE* f, const std::string& text) { std::fwrite(text.data(), 1, text.size(), f); }
-
 std::string seconds(std::int64_t ns) { return fmt::format("{}.{:09d}", ns / 1000000000, ns % 1000000000); }
 
 }  // namespace
 
-McuCapture::McuCapture(std::string out_dir, std::vector<Mcu> mcus, bool echo)
-    : out_dir_(std::move(out_dir)), echo_(echo) {
+McuCapture::McuCapture(std::string out_dir, std::vector<Mcu> mcus, bool echo, std::uint64_t max_file_bytes)
+    : out_dir_(std::move(out_dir)), echo_(echo), max_file_bytes_(max_file_bytes) {
   for (auto& m : mcus) {
     State s;
     s.mcu = m;
-    if (m.console_uart >= 0) s.console = open(m.id + ".console.log");
-    s.pins = open(m.id + ".pins.vcd");
-    put(s.pins.f, fmt::format("$comment SEAR pin levels of mcu {} $end\n$timescale 1 ns $end\n$scope module {} $end\n",
-                              m.id, m.id));
-    for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) put(s.pins.f, fmt::format("$var wire 1 {} D{} $end\n", vcd_id(pin), pin));
-    put(s.pins.f, "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n");
-    for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) put(s.pins.f, fmt::format("z{}\n", vcd_id(pin)));
-    put(s.pins.f, "$end\n");
+    if (m.console_uart >= 0) s.console = open(m.id + ".console.log", text_truncation_note(max_file_bytes_));
+    s.pins = open(m.id + ".pins.vcd", vcd_truncation_note(max_file_bytes_));
+    std::string header = fmt::format(
+        "$comment SEAR pin levels of mcu {} $end\n$timescale 1 ns $end\n$scope module {} $end\n", m.id, m.id);
+    for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) header += fmt::format("$var wire 1 {} D{} $end\n", vcd_id(pin), pin);
+    header += "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n";
+    for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) header += fmt::format("z{}\n", vcd_id(pin));
+    header += "$end\n";
+    s.pins->write(header);
     states_.push_back(std::move(s));
   }
 }
 
-McuCapture::~McuCapture() {
-  try {
-    finish();
-  } catch (const std::exception&) {
-    // Already reported by the finish() that the run calls; closing is all that is left.
-  }
-  for (auto& s : states_) {
-    if (s.console.f) std::fclose(s.console.f);
-    std::fclose(s.pins.f);
-    for (auto& [n, p] : s.ports) {
-      std::fclose(p.raw_tx.f);
-      std::fclose(p.raw_rx.f);
-      std::fclose(p.text.f);
-    }
-  }
-}
+McuCapture::~McuCapture() = default;
 
-McuCapture::File McuCapture::open(const std::string& name) {
-  File file{out_dir_ + "/" + name, nullptr};
-  file.f = std::fopen(file.path.c_str(), "wb");
-  if (!file.f) throw std::runtime_error(fmt::format("{}: error: cannot write: {}", file.path, std::strerror(errno)));
-  paths_.push_back(file.path);
+std::unique_ptr<BoundedFile> McuCapture::open(const std::string& name, const std::string& note) {
+  auto file = std::make_unique<BoundedFile>(out_dir_ + "/" + name, max_file_bytes_, note);
+  all_.push_back(file.get());
   return file;
 }
 
-std::vector<std::string> McuCapture::files() const { return paths_; }
+std::vector<std::string> McuCapture::files() const {
+  std::vector<std::string> paths;
+  for (const auto* f : all_) paths.push_back(f->path());
+  return paths;
+}
+
+std::vector<const BoundedFile*> McuCapture::truncated() const {
+  std::vector<const BoundedFile*> out;
+  for (const auto* f : all_)
+    if (f->truncated()) out.push_back(f);
+  return out;
+}
 
 McuCapture::PortFiles& McuCapture::port(State& s, int n) {
   auto it = s.ports.find(n);
   if (it != s.ports.end()) return it->second;
   PortFiles p;
   const std::string stem = fmt::format("{}.uart{}", s.mcu.id, n);
-  p.raw_tx = open(stem + ".tx.bin");
-  p.raw_rx = open(stem + ".rx.bin");
-  p.text = open(stem + ".log");
-  put(p.text.f, fmt::format("# SEAR UART capture: mcu {}, port {}, 8N1\n"
+  p.raw_tx = open(stem + ".tx.bin", "");
+  p.raw_rx = open(stem + ".rx.bin", "");
+  p.text = open(stem + ".log", text_truncation_note(max_file_bytes_));
+  p.text->write(fmt::format("# SEAR UART capture: mcu {}, port {}, 8N1\n"
                             "# time_s (end of the stop bit), direction (tx, rx, or baud when the port starts), byte in hex\n",
                             s.mcu.id, n));
-  return s.ports.emplace(n, p).first->second;
+  return s.ports.emplace(n, std::move(p)).first->second;
 }
 
 void McuCapture::end_line(State& s, std::int64_t time_ns) {
-  put(s.console.f, fmt::format("{} {}\n", seconds(time_ns), s.line));
-  if (echo_) fmt::print("[{:>11.6f}] {}: {}\n", static_cast<double>(time_ns) * 1e-9, s.mcu.id, s.line);
+  s.console->write(fmt::format("{} {}\n", seconds(time_ns), s.line));
+  if (echo_) {
+    // A closed standard output (`sear run | head`) ends the echo; the run and its files go on.
+    const std::string text = fmt::format("[{:>11.6f}] {}: {}\n", static_cast<double>(time_ns) * 1e-9, s.mcu.id, s.line);
+    if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0) echo_ = false;
+  }
   s.line.clear();
 }
 
@@ -89,13 +86,23 @@ void McuCapture::console_byte(State& s, std::int64_t time_ns, std::uint8_t byte)
 }
 
 void McuCapture::pin_change(State& s, std::int64_t time_ns, int pin, char value) {
-  if (time_ns != s.last_pin_time) put(s.pins.f, fmt::format("#{}\n", time_ns));
+  std::string text;
+  if (time_ns != s.last_pin_time) text = fmt::format("#{}\n", time_ns);
   s.last_pin_time = time_ns;
-  put(s.pins.f, fmt::format("{}{}\n", value, vcd_id(pin)));
+  text += value;
+  text += vcd_id(pin);
+  text += '\n';
+  s.pins->write(text);
 }
 
-void McuCapture::on_event(std::size_t mcu, const sear_event& e) {
+void McuCapture::on_event(std::size_t mcu, const sear_event& e) { states_[mcu].pending.push_back(e); }
+
+void McuCapture::on_stop(std::size_t mcu, std::int64_t time_ns) {
   State& s = states_[mcu];
+  s.stop_ns = std::min(s.stop_ns, time_ns);
+}
+
+void McuCapture::write_event(State& s, const sear_event& e) {
   switch (e.kind) {
     case SEAR_EVENT_PIN:
       pin_change(s, e.time_ns, e.index, e.value ? '1' : '0');
@@ -104,16 +111,16 @@ void McuCapture::on_event(std::size_t mcu, const sear_event& e) {
       if (e.value != 1) pin_change(s, e.time_ns, e.index, 'z');  // an input: the MCU drives nothing
       break;
     case SEAR_EVENT_UART_BEGIN:
-      put(port(s, e.index).text.f, fmt::format("{} baud {}\n", seconds(e.time_ns), e.value));
+      port(s, e.index).text->write(fmt::format("{} baud {}\n", seconds(e.time_ns), e.value));
       break;
     case SEAR_EVENT_UART_TX:
     case SEAR_EVENT_UART_RX: {
       const bool tx = e.kind == SEAR_EVENT_UART_TX;
       PortFiles& p = port(s, e.index);
-      const auto byte = static_cast<std::uint8_t>(e.value);
-      std::fputc(byte, tx ? p.raw_tx.f : p.raw_rx.f);
-      put(p.text.f, fmt::format("{} {} {:02x}\n", seconds(e.time_ns), tx ? "tx" : "rx", byte));
-      if (tx && e.index == s.mcu.console_uart) console_byte(s, e.time_ns, byte);
+      const auto byte = static_cast<char>(e.value);
+      (tx ? p.raw_tx : p.raw_rx)->write(std::string_view(&byte, 1));
+      p.text->write(fmt::format("{} {} {:02x}\n", seconds(e.time_ns), tx ? "tx" : "rx", static_cast<unsigned>(e.value)));
+      if (tx && e.index == s.mcu.console_uart) console_byte(s, e.time_ns, static_cast<std::uint8_t>(e.value));
       break;
     }
     default:
@@ -121,21 +128,34 @@ void McuCapture::on_event(std::size_t mcu, const sear_event& e) {
   }
 }
 
-void McuCapture::finish() {
+// Events come in time order per kind, but a byte sent is stamped ahead of the pin changes that
+// follow it: sorting by time, stably, restores one timeline and keeps the order of equal times.
+void McuCapture::release(State& s, std::int64_t until_ns) {
+  if (s.pending.empty()) return;
+  std::stable_sort(s.pending.begin(), s.pending.end(),
+                   [](const sear_event& a, const sear_event& b) { return a.time_ns < b.time_ns; });
+  const std::int64_t limit = std::min(until_ns, s.stop_ns);
+  std::size_t n = 0;
+  for (; n < s.pending.size() && s.pending[n].time_ns <= until_ns; ++n)
+    if (s.pending[n].time_ns <= limit) write_event(s, s.pending[n]);
+  s.pending.erase(s.pending.begin(), s.pending.begin() + static_cast<std::ptrdiff_t>(n));
+}
+
+// Every step's output reaches the files at once (a flush with nothing new costs no system call),
+// so that a simulator killed outright has lost nothing it had written, and the logs can be
+// followed while the run goes on.
+void McuCapture::advance_to(std::int64_t now_ns) {
+  for (auto& s : states_) release(s, now_ns);
+  for (auto* f : all_) f->flush();
+}
+
+void McuCapture::finish(std::int64_t end_ns) {
   for (auto& s : states_) {
-    if (s.console.f && !s.line.empty()) end_line(s, s.line_time);
-    const auto flush = [](const File& f) {
-      if (f.f && (std::fflush(f.f) != 0 || std::ferror(f.f)))
-        throw std::runtime_error(fmt::format("{}: error: write failed", f.path));
-    };
-    flush(s.console);
-    flush(s.pins);
-    for (auto& [n, p] : s.ports) {
-      flush(p.raw_tx);
-      flush(p.raw_rx);
-      flush(p.text);
-    }
+    release(s, end_ns);
+    s.pending.clear();  // due after the run's end: never on the wire within it
+    if (s.console && !s.line.empty()) end_line(s, s.line_time);
   }
+  for (auto* f : all_) f->flush();
 }
 
 }  // namespace sear

@@ -17,16 +17,25 @@ std::string describe(const McuStop& stop) {
                      static_cast<double>(stop.failure.time_ns) * 1e-9, stop.failure.last_call);
 }
 
+std::string describe(const RobotEvent& e) {
+  return fmt::format("robot {} {} at sim time {:.3f} s at ({:.2f}, {:.2f}, {:.2f}) m{}", e.robot_name, to_string(e.kind),
+                     static_cast<double>(e.time_ns) * 1e-9, e.position_m.x(), e.position_m.y(), e.position_m.z(),
+                     e.stops_robot ? "; it left the world and is stopped" : "");
+}
+
 std::string summary_text(const Simulation& sim, const RunOutcome& o) {
   std::string out = fmt::format("SEAR run of '{}' ({}), seed {}: {}\n", o.project_name, o.project_file, o.seed, o.status);
   out += fmt::format("  sim time {:.3f} s, wall time {:.3f} s, real-time factor {:.1f}x\n", sim.time_s(), o.wall_time_s,
                      real_time_factor(sim, o));
   for (std::size_t r = 0; r < sim.robot_count(); ++r) {
     const auto& v = sim.robot(r);
-    const auto p = v.state().position_m;
-    out += fmt::format("  robot {}: distance {:.2f} m, collisions {}, final position ({:.2f}, {:.2f}, {:.2f}) m\n",
-                       v.desc().name, sim.tally(r).distance_m, sim.tally(r).collisions, p.x(), p.y(), p.z());
+    const auto p = sim.robot_state(r).position_m;
+    out += fmt::format("  robot {}: distance {:.2f} m, collisions {}, final position ({:.2f}, {:.2f}, {:.2f}) m{}\n",
+                       v.desc().name, sim.tally(r).distance_m, sim.tally(r).collisions, p.x(), p.y(), p.z(),
+                       sim.robot_stopped(r) ? ", stopped" : "");
   }
+  for (const auto& e : sim.robot_events()) out += fmt::format("  {}\n", describe(e));
+  if (sim.physics_failure()) out += fmt::format("  {}\n", *sim.physics_failure());
   for (const auto& c : sim.collisions())
     out += fmt::format("  collision at {:.3f} s: {} hit {}\n", static_cast<double>(c.time_ns) * 1e-9, c.robot, c.other);
   for (const auto& stop : o.mcu_stops) out += fmt::format("  {}\n", describe(stop));
@@ -46,26 +55,36 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
   j["robots"] = nlohmann::ordered_json::array();
   for (std::size_t r = 0; r < sim.robot_count(); ++r) {
     const auto& v = sim.robot(r);
-    const auto s = v.state();
+    const auto s = sim.robot_state(r);
     j["robots"].push_back({{"name", v.desc().name},
                            {"distance_m", sim.tally(r).distance_m},
                            {"collisions", sim.tally(r).collisions},
                            {"final_position_m", {s.position_m.x(), s.position_m.y(), s.position_m.z()}},
-                           {"final_yaw_rad", s.roll_pitch_yaw.z()}});
+                           {"final_yaw_rad", s.roll_pitch_yaw.z()},
+                           {"status", sim.robot_stopped(r) ? "stopped" : "running"}});
   }
+  j["robot_events"] = nlohmann::ordered_json::array();
+  for (const auto& e : sim.robot_events())
+    j["robot_events"].push_back({{"time_s", static_cast<double>(e.time_ns) * 1e-9},
+                                 {"robot", e.robot_name},
+                                 {"kind", to_string(e.kind)},
+                                 {"position_m", {e.position_m.x(), e.position_m.y(), e.position_m.z()}},
+                                 {"stopped", e.stops_robot}});
+  if (sim.physics_failure()) j["physics_failure"] = *sim.physics_failure();
+  else j["physics_failure"] = nullptr;
   j["collision_events"] = nlohmann::ordered_json::array();
   for (const auto& c : sim.collisions())
     j["collision_events"].push_back(
         {{"time_s", static_cast<double>(c.time_ns) * 1e-9}, {"robot", c.robot}, {"other", c.other}});
   j["mcu_stops"] = nlohmann::ordered_json::array();
-  static const char* const kinds[] = {"exited", "crashed", "hung", "refused"};
   for (const auto& stop : o.mcu_stops)
     j["mcu_stops"].push_back({{"mcu", stop.mcu},
-                              {"kind", kinds[static_cast<int>(stop.failure.kind)]},
+                              {"kind", kind_name(stop.failure.kind)},
                               {"code", stop.failure.code},
                               {"detail", stop.failure.detail},
                               {"sim_time_s", static_cast<double>(stop.failure.time_ns) * 1e-9},
                               {"last_hal_call", stop.failure.last_call}});
+  j["truncated_files"] = o.truncated_files;
   return j.dump(2) + "\n";
 }
 

@@ -2,9 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cerrno>
-#include <cstring>
-#include <stdexcept>
 
 namespace sear {
 
@@ -29,20 +26,18 @@ const char* mode_letter(MotorDirection d) {
 }
 }  // namespace
 
-TraceCsv::TraceCsv(const std::string& folder, const Simulation& sim) {
+TraceCsv::TraceCsv(const std::string& folder, const Simulation& sim, std::uint64_t max_file_bytes) {
   for (std::size_t r = 0; r < sim.robot_count(); ++r) {
     const RobotDesc& d = sim.robot(r).desc();
     const std::string path = fmt::format("{}/trace_{}.csv", folder, d.name);
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    if (!f) throw std::runtime_error(fmt::format("{}: error: cannot write: {}", path, std::strerror(errno)));
-    files_.emplace_back(f);
+    files_.push_back(std::make_unique<BoundedFile>(path, max_file_bytes, text_truncation_note(max_file_bytes)));
     paths_.push_back(path);
     std::string header =
         "time_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad,vx_mps,vy_mps,vz_mps,wx_radps,wy_radps,wz_radps,forward_mps";
     for (const auto& w : d.wheels) header += fmt::format(",wheel_{}_radps", w.name);
     for (const auto& m : d.motors) header += fmt::format(",motor_{}_duty,motor_{}_mode", m.name, m.name);
     for (const auto& s : d.servos) header += fmt::format(",servo_{}_pulse_us", s.name);
-    fmt::print(f, "{}\n", header);
+    files_.back()->write(header + "\n");
   }
 }
 
@@ -66,17 +61,22 @@ void TraceCsv::write_row(const Simulation& sim) {
     }
     for (std::size_t k = 0; k < v.desc().servos.size(); ++k) fmt::format_to(std::back_inserter(row), ",{:.1f}", v.servo_pulse(k));
     row.push_back('\n');
-    std::fwrite(row.data(), 1, row.size(), files_[r].get());
+    files_[r]->write(std::string_view(row.data(), row.size()));
   }
   flush();
+}
+
+std::vector<const BoundedFile*> TraceCsv::truncated() const {
+  std::vector<const BoundedFile*> out;
+  for (const auto& f : files_)
+    if (f->truncated()) out.push_back(f.get());
+  return out;
 }
 
 void TraceCsv::flush() {
   // Each row reaches the file before the next step, so a run that dies keeps all it traced; a
   // full disk is an error, not a silently short trace.
-  for (std::size_t r = 0; r < files_.size(); ++r)
-    if (std::fflush(files_[r].get()) != 0 || std::ferror(files_[r].get()))
-      throw std::runtime_error(fmt::format("{}: error: cannot write: {}", paths_[r], std::strerror(errno)));
+  for (auto& f : files_) f->flush();
 }
 
 }  // namespace sear

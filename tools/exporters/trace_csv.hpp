@@ -2,28 +2,28 @@
 // sampled at the trace rate, one file per robot, flushed row by row so a crash loses nothing.
 #pragma once
 
-#include <cstdio>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "exporters/bounded_file.hpp"
 #include "runtime/simulation.hpp"
 
 namespace sear {
 
 class TraceCsv {
  public:
-  // Opens `folder`/trace_<robot>.csv for every robot and writes the header lines.
-  TraceCsv(const std::string& folder, const Simulation& sim);
+  // Opens `folder`/trace_<robot>.csv for every robot and writes the header lines; no file grows
+  // past max_file_bytes.
+  TraceCsv(const std::string& folder, const Simulation& sim, std::uint64_t max_file_bytes);
   void write_row(const Simulation& sim);
   void flush();
   const std::vector<std::string>& files() const { return paths_; }
+  std::vector<const BoundedFile*> truncated() const;
 
  private:
-  struct FileCloser {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-  };
-  std::vector<std::unique_ptr<std::FILE, FileCloser>> files_;
+  std::vector<std::unique_ptr<BoundedFile>> files_;
   std::vector<std::string> paths_;
 };
 

@@ -1,10 +1,29 @@
 #include <fmt/format.h>
 
+#include <sstream>
+
 #include "runtime/simulation.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
 
 namespace sear {
+namespace {
+
+void print_count(const std::string& path, std::size_t errors) {
+  fmt::print(stderr, "{}: {} error{}\n", path, errors, errors == 1 ? "" : "s");
+}
+
+}  // namespace
+
+std::size_t print_world_errors(const std::string& path, const std::string& text) {
+  Diagnostics placement;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) placement.error(path, 0, line);
+  for (const auto& d : placement.all()) fmt::print(stderr, "{}\n", d.message);
+  if (placement.count() > placement.all().size())
+    fmt::print(stderr, "... and {} more errors\n", placement.count() - placement.all().size());
+  return placement.count();
+}
 
 int check_command(const std::string& project) {
   Diagnostics diagnostics;
@@ -12,14 +31,16 @@ int check_command(const std::string& project) {
   auto loaded = load_project(path, diagnostics);
   if (!loaded) {
     fmt::print(stderr, "{}", diagnostics.joined());
-    fmt::print(stderr, "{}: {} error{}\n", path, diagnostics.all().size(), diagnostics.all().size() == 1 ? "" : "s");
+    print_count(path, diagnostics.count());
     return 1;
   }
   // Building the world finds what only the world knows, such as a robot placed off the terrain.
+  // It reports one "file:line: error: ..." line per problem; they go through Diagnostics too, so
+  // that 160 000 obstacles off the terrain print a hundred lines and a count.
   try {
     Simulation world(*loaded, loaded->run.seed);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "{}\n", e.what());
+    print_count(path, print_world_errors(path, e.what()));
     return 1;
   }
   // Firmware named by its sources must compile: a run would stop there too (and the build is cached).

@@ -1,6 +1,7 @@
 // The `sear` subcommands and the options they take.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@ struct RunOptions {
   bool quiet = false;
   double hang_timeout_s = 5;  // host seconds a firmware may go without progress
   bool keep_going = false;    // a stopped firmware does not end the run
+  double max_file_mb = 256;   // the most any one output file of the run may hold, in MiB
 };
 
 // A project argument as the user typed it -> the project file to load.
@@ -28,5 +30,8 @@ struct ProjectDesc;
 // description. Throws FirmwareBuildError with the compiler's messages.
 void build_project_firmware(ProjectDesc& project, bool quiet);
 int check_command(const std::string& project);
+// Prints the world-building errors in `text` (one per line), the first hundred and a count, as
+// the loader's; returns how many there were.
+std::size_t print_world_errors(const std::string& path, const std::string& text);
 
 }  // namespace sear

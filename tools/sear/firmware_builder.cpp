@@ -5,6 +5,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -20,6 +21,9 @@
 #include <optional>
 #include <set>
 #include <string_view>
+
+#include "runtime/process_keeper.hpp"
+#include "runtime/stop_request.hpp"
 
 extern char** environ;
 
@@ -70,7 +74,9 @@ struct ProcessResult {
   std::string output;  // stdout and stderr interleaved, as a terminal would show them
 };
 
-// No shell in between, so paths with spaces or quotes reach the compiler as they are.
+// No shell in between, so paths with spaces or quotes reach the compiler as they are. The
+// compiler runs in its own process group, so that a stop request (Ctrl-C, SIGTERM, SIGHUP) or the
+// keeper, if the simulator is killed outright, ends it with every pass it started.
 ProcessResult run_process(const std::vector<std::string>& args) {
   int fds[2];
   // Close-on-exec, so a compiler spawned by another thread does not hold our pipe open.
@@ -80,11 +86,21 @@ ProcessResult run_process(const std::vector<std::string>& args) {
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
   posix_spawn_file_actions_adddup2(&actions, fds[1], STDERR_FILENO);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF);
+  posix_spawnattr_setpgroup(&attributes, 0);
+  sigset_t defaults;  // what the run ignores (SIGPIPE), the compiler must not
+  sigemptyset(&defaults);
+  sigaddset(&defaults, SIGPIPE);
+  sigaddset(&defaults, SIGXFSZ);
+  posix_spawnattr_setsigdefault(&attributes, &defaults);
   std::vector<char*> argv;
   for (const auto& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
   argv.push_back(nullptr);
   pid_t pid = 0;
-  const int spawn_error = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  const int spawn_error = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   close(fds[1]);
   if (spawn_error != 0) {
@@ -92,10 +108,12 @@ ProcessResult run_process(const std::vector<std::string>& args) {
     throw FirmwareBuildError(fmt::format("cannot run the C compiler '{}': {} (set $CC to the compiler to use)",
                                          args[0], std::strerror(spawn_error)));
   }
+  keeper_watch(pid);
   ProcessResult result;
   char buffer[4096];
   for (;;) {
-    const ssize_t n = read(fds[0], buffer, sizeof buffer);
+    if (stop_requested()) break;
+    const ssize_t n = read(fds[0], buffer, sizeof buffer);  // a stop signal interrupts it (no SA_RESTART)
     if (n > 0) {
       result.output.append(buffer, static_cast<std::size_t>(n));
     } else if (n == 0 || errno != EINTR) {
@@ -103,10 +121,14 @@ ProcessResult run_process(const std::vector<std::string>& args) {
     }
   }
   close(fds[0]);
+  if (stop_requested()) kill(-pid, SIGKILL);
   int status = 0;
   while (waitpid(pid, &status, 0) < 0) {
     if (errno != EINTR) throw FirmwareBuildError(fmt::format("cannot wait for '{}': {}", args[0], std::strerror(errno)));
   }
+  kill(-pid, SIGKILL);  // any pass of the compiler's still running (none, normally)
+  keeper_forget(pid);
+  if (stop_requested()) throw FirmwareBuildInterrupted();
   if (WIFSIGNALED(status)) result.output += fmt::format("{}: killed by signal {}\n", args[0], WTERMSIG(status));
   result.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
   return result;

@@ -21,6 +21,12 @@ struct FirmwareBuildError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A stop request (Ctrl-C, SIGTERM, SIGHUP) came while compiling: the compiler was killed and its
+// scratch directory removed, so the next run compiles afresh.
+struct FirmwareBuildInterrupted : FirmwareBuildError {
+  FirmwareBuildInterrupted() : FirmwareBuildError("sear: interrupted while compiling firmware") {}
+};
+
 // compiler from $CC, else "cc"; cache_dir from $SEAR_CACHE_DIR, else $XDG_CACHE_HOME/sear/firmware,
 // else $HOME/.cache/sear/firmware.
 FirmwareToolchain default_toolchain(std::string hal_include_dir, std::vector<std::string> libraries,

@@ -1,26 +1,24 @@
 #include <fmt/format.h>
+#include <signal.h>
+#include <string.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "exporters/mcu_capture.hpp"
 #include "exporters/run_summary.hpp"
 #include "exporters/trace_csv.hpp"
+#include "runtime/stop_request.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
 #include "sear/firmware_builder.hpp"
 
 namespace sear {
 namespace {
-
-std::atomic<bool> g_stop_requested{false};
-
-extern "C" void request_stop(int) { g_stop_requested = true; }
 
 void write_file(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
@@ -34,9 +32,46 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// Standard output may be a pipe that closes early (`sear run | head -2`): what is printed there
+// is for people, so a failed write ends the printing, never the run or its files.
+bool g_stdout_open = true;
+void print_out(const std::string& text) {
+  if (!g_stdout_open) return;
+  if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0) g_stdout_open = false;
+}
+
+// 128 + the signal, as shells report a process ended by it; Ctrl-C gives 130.
+int interrupted_exit_code() { return 128 + stop_signal(); }
+
+std::string interrupted_status() {
+  const char* name = sigabbrev_np(stop_signal());
+  return fmt::format("interrupted (SIG{})", name ? name : "?");
+}
+
+// A firmware writes its own host log, under a file-size limit set on its process; at the limit
+// its writes fail, and the note is added here, by the simulator, which has no such limit.
+std::vector<std::string> note_truncated_host_logs(const std::string& out_dir, const std::vector<McuCapture::Mcu>& mcus,
+                                                  std::uint64_t max_file_bytes) {
+  std::vector<std::string> truncated;
+  for (const auto& m : mcus) {
+    const std::string log = out_dir + "/" + m.id + ".host.log";
+    std::error_code error;
+    const std::uintmax_t size = std::filesystem::file_size(log, error);
+    if (error || size < max_file_bytes) continue;
+    char last = '\n';
+    std::ifstream(log, std::ios::binary).seekg(-1, std::ios::end).get(last);
+    std::ofstream(log, std::ios::app) << (last == '\n' ? "" : "\n") << text_truncation_note(max_file_bytes);
+    fmt::print(stderr, "sear: {} reached its limit of {} bytes (--max-file-mb) and was cut short\n", log, max_file_bytes);
+    truncated.push_back(log);
+  }
+  return truncated;
+}
+
 }  // namespace
 
 int run_command(const RunOptions& options) {
+  // First of all, so that a Ctrl-C while loading or compiling is honoured as cleanly as later.
+  install_stop_signals();
   Diagnostics diagnostics;
   const std::string path = resolve_project_path(options.project);
   auto project = load_project(path, diagnostics);
@@ -47,9 +82,13 @@ int run_command(const RunOptions& options) {
   if (options.duration_s) project->run.duration_s = *options.duration_s;
   if (options.seed) project->run.seed = *options.seed;
   if (options.trace_rate_hz) project->run.trace_rate_hz = *options.trace_rate_hz;
+  const auto max_file_bytes = static_cast<std::uint64_t>(options.max_file_mb * 1024.0 * 1024.0);
 
   try {
     build_project_firmware(*project, options.quiet);
+  } catch (const FirmwareBuildInterrupted& e) {
+    fmt::print(stderr, "\n{}\n", e.what());
+    return interrupted_exit_code();
   } catch (const FirmwareBuildError& e) {
     fmt::print(stderr, "{}\n", e.what());
     return 1;
@@ -58,28 +97,48 @@ int run_command(const RunOptions& options) {
   try {
     std::filesystem::create_directories(options.out_dir);
     Simulation sim(*project, project->run.seed);
-    TraceCsv trace(options.out_dir, sim);
+    TraceCsv trace(options.out_dir, sim, max_file_bytes);
     std::vector<McuCapture::Mcu> mcus;
     for (const auto& robot : project->robots)
       for (const auto& mcu : robot.mcus) mcus.push_back({robot.name + "." + mcu.name, mcu.console_uart});
-    McuCapture capture(options.out_dir, mcus, !options.quiet);
-    Lockstep lockstep(sim, *project, {options.out_dir, options.hang_timeout_s, options.keep_going}, capture);
+    McuCapture capture(options.out_dir, mcus, !options.quiet, max_file_bytes);
+    LockstepOptions lockstep_options;
+    lockstep_options.out_dir = options.out_dir;
+    lockstep_options.mcu.hang_timeout_s = options.hang_timeout_s;
+    lockstep_options.mcu.max_file_bytes = max_file_bytes;
+    lockstep_options.keep_going = options.keep_going;
+    Lockstep lockstep(sim, *project, lockstep_options, capture);
     const std::int64_t end_ns = std::llround(project->run.duration_s * 1e9);
     const std::int64_t trace_every =
         std::max<std::int64_t>(1, std::llround(1e9 / project->run.trace_rate_hz / static_cast<double>(sim.step_ns())));
 
-    // Ctrl-C ends the run early but still writes the summary, so nothing done so far is lost.
-    std::signal(SIGINT, request_stop);
-    std::signal(SIGTERM, request_stop);
     const bool show_progress = !options.quiet && isatty(STDERR_FILENO);
     const auto start = Clock::now();
     double next_progress_s = 2.0;  // short runs finish before a progress line would help
 
     trace.write_row(sim);
     std::int64_t steps = 0;
-    std::size_t stops_reported = 0;
-    while (sim.time_ns() < end_ns && !g_stop_requested) {
-      const bool go_on = lockstep.step();
+    std::size_t stops_reported = 0, events_reported = 0;
+    bool physics_failed = false;
+    while (sim.time_ns() < end_ns && !stop_requested()) {
+      bool go_on = false;
+      try {
+        go_on = lockstep.step();
+      } catch (const PhysicsError& e) {
+        // The world is over; what was written up to here, and the summary, still are not.
+        if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
+        fmt::print(stderr, "sear: {}\n", e.what());
+        physics_failed = true;
+        break;
+      }
+      capture.advance_to(sim.time_ns());
+      // A robot that left the world is reported at that moment; its MCUs end with it.
+      for (; events_reported < sim.robot_events().size(); ++events_reported) {
+        const RobotEvent& e = sim.robot_events()[events_reported];
+        if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
+        fmt::print(stderr, "sear: {}\n", describe(e));
+        if (e.stops_robot) lockstep.retire_robot(e.robot);
+      }
       for (; stops_reported < lockstep.stops().size(); ++stops_reported) {
         if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
         fmt::print(stderr, "sear: {} (its output: {}/{}.host.log)\n", describe(lockstep.stops()[stops_reported]),
@@ -96,7 +155,8 @@ int run_command(const RunOptions& options) {
     }
     if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
     trace.flush();
-    capture.finish();
+    capture.finish(sim.time_ns());
+    const bool interrupted = stop_requested();
 
     RunOutcome outcome;
     outcome.project_file = path;
@@ -104,19 +164,37 @@ int run_command(const RunOptions& options) {
     outcome.seed = project->run.seed;
     outcome.wall_time_s = seconds_since(start);
     outcome.mcu_stops = lockstep.stops();
-    outcome.status = g_stop_requested ? "interrupted" : !outcome.mcu_stops.empty() ? "mcu stopped" : "completed";
+    outcome.status = interrupted        ? "interrupted"
+                     : physics_failed   ? "physics failed"
+                     : !outcome.mcu_stops.empty() ? "mcu stopped"
+                                                  : "completed";
+    std::vector<const BoundedFile*> truncated = trace.truncated();
+    for (const auto* f : capture.truncated()) truncated.push_back(f);
+    for (const auto* f : truncated) {
+      fmt::print(stderr, "sear: {} reached its limit of {} bytes (--max-file-mb) and was cut short\n", f->path(),
+                 f->limit_bytes());
+      outcome.truncated_files.push_back(f->path());
+    }
+    for (auto& log : note_truncated_host_logs(options.out_dir, mcus, max_file_bytes))
+      outcome.truncated_files.push_back(std::move(log));
     const std::string text = summary_text(sim, outcome);
     write_file(options.out_dir + "/summary.txt", text);
     write_file(options.out_dir + "/summary.json", summary_json(sim, outcome));
     if (!options.quiet) {
-      fmt::print("{}", text);
-      fmt::print("  output: {}/ (summary.txt, summary.json", options.out_dir);
-      for (const auto& f : trace.files()) fmt::print(", {}", std::filesystem::path(f).filename().string());
-      for (const auto& f : capture.files()) fmt::print(", {}", std::filesystem::path(f).filename().string());
-      fmt::print(")\n");
+      std::string listing = fmt::format("  output: {}/ (summary.txt, summary.json", options.out_dir);
+      for (const auto& f : trace.files()) listing += ", " + std::filesystem::path(f).filename().string();
+      for (const auto& f : capture.files()) listing += ", " + std::filesystem::path(f).filename().string();
+      print_out(text + listing + ")\n");
     }
-    if (g_stop_requested) return 130;
+    if (interrupted) {
+      fmt::print(stderr, "sear: {}\n", interrupted_status());
+      return interrupted_exit_code();
+    }
+    if (physics_failed) return 4;
     return outcome.mcu_stops.empty() ? 0 : 3;
+  } catch (const PlacementError& e) {
+    print_world_errors(path, e.what());
+    return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "{}\n", e.what());
     return 1;

@@ -7,7 +7,10 @@
 #include <stdint.h>
 
 #define SEAR_LINK_MAGIC 0x52414553u /* "SEAR" little-endian */
-#define SEAR_LINK_VERSION 1u
+#define SEAR_LINK_VERSION 2u
+/* Guards at both ends of the firmware's writable part: a stray write that runs over them is seen
+ * at the next turn even when every value it hit still looks plausible. */
+#define SEAR_LINK_GUARD 0x5EA75EA75EA75EA7ull
 /* The simulator passes the page to the firmware as an inherited file descriptor named here. */
 #define SEAR_LINK_FD_ENV "SEAR_LINK_FD"
 /* ... and names itself, so that a firmware outliving it can tell. */
@@ -97,6 +100,7 @@ struct sear_event {
 struct sear_link {
   uint32_t magic;
   uint32_t version;
+  uint64_t guard_front;
 
   /* Set once by the simulator before the firmware starts. */
   int64_t hal_call_cost_ns;
@@ -130,6 +134,7 @@ struct sear_link {
   uint32_t event_count;
   uint32_t reserved;
   struct sear_event events[SEAR_LINK_MAX_EVENTS];
+  uint64_t guard_back;
 };
 
 #endif

@@ -1,6 +1,7 @@
-/* The firmware's end of the lockstep link: attaching to the page the simulator shares before
- * main() runs, handing the turn back and forth, and the event queue towards the simulator. */
+/* The firmware's end of the lockstep link (see link_end.h). */
 #define _GNU_SOURCE
+#include "link_end.h"
+
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,8 +9,8 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#include "mcu.h"
-#include "runtime/lockstep_handoff.h"
+#include "lockstep_handoff.h"
+#include "mcu_state.h"
 
 struct mcu sear_mcu;
 
@@ -19,8 +20,9 @@ struct mcu sear_mcu;
 
 static pid_t simulator;
 
-/* Waits for the turn; a simulator that died without handing it over (killed outright) must not
- * leave this process waiting for ever. */
+/* Waits for the turn; a simulator that died without handing it over must not leave this process
+ * waiting for ever. The parent-death signal the simulator set up kills it at once; this look,
+ * once a second, is for the moment before that signal was armed. */
 static void wait_for_turn(void) {
   struct sear_link *link = sear_mcu.link;
   while (!sear_handoff_wait(&link->turn, SEAR_TURN_FIRMWARE, &link->firmware_waiting, SPIN_NS, 1000000000))
@@ -37,23 +39,14 @@ static void hand_over(enum sear_request request) {
   sear_mcu.slow_path--;
 }
 
-/* Bytes the simulator queued for this quantum join each port's arrivals, still in time order. */
-static void take_quantum(void) {
-  struct sear_link *link = sear_mcu.link;
-  sear_mcu.sample_next = 0;
-  for (uint32_t i = 0; i < link->rx_count; ++i)
-    mcu_uart_arrive(link->rx[i].port, link->rx[i].byte, link->rx[i].time_ns);
-}
+void mcu_link_exchange(void) { hand_over(SEAR_REQUEST_QUANTUM_DONE); }
 
-void mcu_exchange(void) {
-  hand_over(SEAR_REQUEST_QUANTUM_DONE);
-  take_quantum();
-}
+void mcu_link_first_turn(void) { wait_for_turn(); }
 
 void mcu_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns) {
   struct sear_link *link = sear_mcu.link;
   if (sear_mcu.exiting) return;
-  if (link->event_count == SEAR_LINK_MAX_EVENTS) hand_over(SEAR_REQUEST_DRAIN);
+  if (link->event_count >= SEAR_LINK_MAX_EVENTS) hand_over(SEAR_REQUEST_DRAIN);
   struct sear_event *e = &link->events[link->event_count];
   e->time_ns = time_ns;
   e->value = value;
@@ -89,9 +82,7 @@ static void at_exit(void) {
   sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
 }
 
-/* Before the firmware's own constructors (which run at the default priority), so that one that
- * calls the HAL finds it ready. */
-__attribute__((constructor(101))) static void attach(void) {
+void mcu_link_attach(void) {
   const char *fd_text = getenv(SEAR_LINK_FD_ENV);
   if (!fd_text) {
     fprintf(stderr, "This firmware was built for the SEAR simulator: run it through a project, "
@@ -111,17 +102,9 @@ __attribute__((constructor(101))) static void attach(void) {
     _exit(2);
   }
   sear_mcu.link = link;
-  sear_mcu.cost_ns = link->hal_call_cost_ns;
-  sear_mcu.adc_bits = 10;
-  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) sear_mcu.driven[pin] = MCU_FLOATING;
-  for (uint32_t i = 0; i < link->input_count; ++i)
-    gp2d15_init(&sear_mcu.rangers[i], link->inputs[i].switch_distance_m, link->inputs[i].hysteresis_m);
   /* Named by the simulator rather than read from getppid(): if the simulator died before this
    * ran, the parent is already the reaper. */
   const char *sim_pid = getenv(SEAR_SIM_PID_ENV);
   simulator = sim_pid ? (pid_t)atol(sim_pid) : getppid();
   atexit(at_exit);
-  wait_for_turn();
-  take_quantum();
-  mcu_reschedule();
 }

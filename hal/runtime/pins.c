@@ -1,0 +1,32 @@
+/* Pin levels (see pins.h): the firmware's output latches and the levels devices drive onto its
+ * inputs; a level change on an input raises its pin interrupt. */
+#include "pins.h"
+
+#include <hal/gpio.h>
+
+#include "link_end.h"
+#include "mcu_state.h"
+
+void mcu_check_pin(uint8_t pin, const char *call) {
+  if (pin >= SEAR_LINK_PINS) mcu_fatal("%s(%u): the ATmega2560 board has pins 0..69", call, pin);
+}
+
+/* As in the chip's PORT register, an input's latch is its pull-up: INPUT clears it,
+ * INPUT_PULLUP sets it, and digital_write() on an input switches it. */
+uint8_t mcu_pin_level(uint8_t pin) {
+  if (sear_mcu.mode[pin] == OUTPUT) return sear_mcu.latch[pin];
+  if (sear_mcu.driven[pin] != MCU_FLOATING) return sear_mcu.driven[pin];
+  /* An input nobody drives reads HIGH through the pull-up; without one it floats, and SEAR reads
+   * it LOW rather than the noise a real pin would pick up. */
+  return sear_mcu.latch[pin];
+}
+
+void mcu_set_driven(uint8_t pin, uint8_t level) {
+  const uint8_t before = mcu_pin_level(pin);
+  sear_mcu.driven[pin] = level;
+  const uint8_t after = mcu_pin_level(pin);
+  if (before == after || !sear_mcu.pin_handler[pin]) return;
+  if ((after == HIGH && (sear_mcu.pin_edges[pin] & IRQ_RISING)) ||
+      (after == LOW && (sear_mcu.pin_edges[pin] & IRQ_FALLING)))
+    sear_mcu.pin_pending[pin] = 1;
+}

@@ -1,0 +1,125 @@
+/* Checks of everything a firmware could have written into the link (see link_check.h). Every
+ * value is read exactly once, so a firmware still writing cannot change it between the check and
+ * its use. */
+#include "link_check.h"
+
+#include <stdio.h>
+#include <string.h>
+
+/* The longest a byte can stay in a UART's path: 66 bytes queued (shift register, data register,
+ * 64-byte ring) at the slowest rate the HAL accepts, 300 baud, 10 bits each: 2.2 s. */
+#define MAX_TX_AHEAD_NS 2200000000ll
+
+#define FAIL(...)                               \
+  do {                                          \
+    snprintf(why, why_size, __VA_ARGS__);       \
+    return -1;                                  \
+  } while (0)
+
+void sear_link_watch_init(struct sear_link_watch *w, int64_t call_cost_ns) {
+  memset(w, 0, sizeof *w);
+  w->call_cost_ns = call_cost_ns;
+}
+
+static uint32_t load32(const uint32_t *p) { return __atomic_load_n(p, __ATOMIC_ACQUIRE); }
+static int64_t load64(const int64_t *p) { return __atomic_load_n(p, __ATOMIC_ACQUIRE); }
+
+int sear_link_check_turn(const struct sear_link *link, int handed_back, struct sear_link_watch *w,
+                         struct sear_link_turn *t, char *why, size_t why_size) {
+  memset(t, 0, sizeof *t);
+  if (link->magic != SEAR_LINK_MAGIC || link->version != SEAR_LINK_VERSION)
+    FAIL("magic/version (0x%08x/%u instead of 0x%08x/%u)", link->magic, link->version, SEAR_LINK_MAGIC,
+         SEAR_LINK_VERSION);
+  if (link->guard_front != SEAR_LINK_GUARD) FAIL("guard_front (0x%016llx)", (unsigned long long)link->guard_front);
+  if (link->guard_back != SEAR_LINK_GUARD) FAIL("guard_back (0x%016llx)", (unsigned long long)link->guard_back);
+  t->request = load32(&link->request);
+  if (t->request > SEAR_REQUEST_FATAL) FAIL("request (%u, not a request the HAL makes)", t->request);
+  t->clock_ns = load64(&link->clock_ns);
+  if (t->clock_ns < w->clock_ns)
+    FAIL("clock_ns (%lld ns, earlier than the %lld ns it had already reached)", (long long)t->clock_ns,
+         (long long)w->clock_ns);
+  /* The HAL hands over as soon as a call finds the quantum's end reached, so its clock is at most
+   * one call's cost past it; a quantum done must have reached it. */
+  const int64_t latest = w->quantum_end_ns + w->call_cost_ns;
+  if (t->clock_ns > latest)
+    FAIL("clock_ns (%lld ns, past the quantum ending at %lld ns)", (long long)t->clock_ns,
+         (long long)w->quantum_end_ns);
+  if (handed_back && t->request == SEAR_REQUEST_QUANTUM_DONE && t->clock_ns < w->quantum_end_ns)
+    FAIL("clock_ns (%lld ns, short of the quantum's end at %lld ns)", (long long)t->clock_ns,
+         (long long)w->quantum_end_ns);
+  const uint64_t calls = __atomic_load_n(&link->calls, __ATOMIC_ACQUIRE);
+  if (calls < w->calls)
+    FAIL("calls (%llu, fewer than the %llu already made)", (unsigned long long)calls, (unsigned long long)w->calls);
+  t->last_call = load32(&link->last_call);
+  if (t->last_call >= SEAR_CALL_COUNT) FAIL("last_call (%u, not a HAL call)", t->last_call);
+  t->event_count = load32(&link->event_count);
+  if (t->event_count > SEAR_LINK_MAX_EVENTS)
+    FAIL("event_count (%u, more than the %u the queue holds)", t->event_count, SEAR_LINK_MAX_EVENTS);
+  t->exit_code = link->exit_code;
+  /* Only what a report can print: the text ends within its field, in plain ASCII. */
+  for (size_t i = 0; i + 1 < sizeof t->fatal && link->fatal[i]; ++i) {
+    const char c = link->fatal[i];
+    t->fatal[i] = c >= 0x20 && c < 0x7f ? c : '?';
+  }
+  w->clock_ns = t->clock_ns;
+  w->calls = calls;
+  w->last_call = t->last_call;
+  return 0;
+}
+
+static int check_time_order(int64_t time_ns, int64_t *last, const char *what, uint32_t i, char *why,
+                            size_t why_size) {
+  if (time_ns < *last)
+    FAIL("events[%u].time_ns (%s at %lld ns, before the one at %lld ns)", i, what, (long long)time_ns,
+         (long long)*last);
+  *last = time_ns;
+  return 0;
+}
+
+int sear_link_check_event(const struct sear_link *link, uint32_t i, struct sear_link_watch *w,
+                          struct sear_event *e, char *why, size_t why_size) {
+  memcpy(e, &link->events[i], sizeof *e);
+  const int64_t clock = w->clock_ns;
+  switch (e->kind) {
+    case SEAR_EVENT_PIN:
+    case SEAR_EVENT_PIN_MODE:
+    case SEAR_EVENT_PWM:
+    case SEAR_EVENT_SERVO:
+      if (e->index >= SEAR_LINK_PINS) FAIL("events[%u].index (pin %u; the board has 0..%d)", i, e->index, SEAR_LINK_PINS - 1);
+      break;
+    case SEAR_EVENT_UART_BEGIN:
+    case SEAR_EVENT_UART_TX:
+    case SEAR_EVENT_UART_RX:
+      if (e->index >= SEAR_LINK_UARTS) FAIL("events[%u].index (port %u; the chip has 0..%d)", i, e->index, SEAR_LINK_UARTS - 1);
+      break;
+    default:
+      FAIL("events[%u].kind (%u, not an event the HAL writes)", i, e->kind);
+  }
+  const uint32_t v = e->value;
+  if ((e->kind == SEAR_EVENT_PIN && v > 1) || (e->kind == SEAR_EVENT_PIN_MODE && v > 2) ||
+      (e->kind == SEAR_EVENT_PWM && v > 255) || (e->kind == SEAR_EVENT_SERVO && v > 2600) ||
+      (e->kind == SEAR_EVENT_UART_BEGIN && (v < 300 || v > 2000000)) ||
+      ((e->kind == SEAR_EVENT_UART_TX || e->kind == SEAR_EVENT_UART_RX) && v > 255))
+    FAIL("events[%u].value (%u, out of range for its kind %u)", i, v, e->kind);
+  if (e->time_ns < 0) FAIL("events[%u].time_ns (%lld ns, negative)", i, (long long)e->time_ns);
+  switch (e->kind) {
+    case SEAR_EVENT_UART_TX:
+      /* Stamped with the end of its stop bit: after the call that sent it, at most the whole
+       * UART path ahead of the clock. */
+      if (e->time_ns > clock + MAX_TX_AHEAD_NS)
+        FAIL("events[%u].time_ns (a byte sent at %lld ns, further ahead of the clock at %lld ns than a UART holds)", i,
+             (long long)e->time_ns, (long long)clock);
+      return check_time_order(e->time_ns, &w->last_tx_ns[e->index], "a byte sent", i, why, why_size);
+    case SEAR_EVENT_UART_RX:
+      if (e->time_ns > clock)
+        FAIL("events[%u].time_ns (a byte received at %lld ns, after the clock at %lld ns)", i, (long long)e->time_ns,
+             (long long)clock);
+      return check_time_order(e->time_ns, &w->last_rx_ns[e->index], "a byte received", i, why, why_size);
+    default:
+      /* Stamped with the time of the call, which lies within this turn. */
+      if (e->time_ns < w->turn_clock_ns || e->time_ns > clock)
+        FAIL("events[%u].time_ns (%lld ns, outside the turn from %lld to %lld ns)", i, (long long)e->time_ns,
+             (long long)w->turn_clock_ns, (long long)clock);
+      return check_time_order(e->time_ns, &w->last_event_ns, "an event", i, why, why_size);
+  }
+}

@@ -1,0 +1,56 @@
+/* The simulator's checks on what a firmware left in the shared link: the firmware can overwrite
+ * that memory, so no value read there is used before it passes these. */
+#ifndef SEAR_LINK_CHECK_H
+#define SEAR_LINK_CHECK_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lockstep_link.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* What the simulator knows of one firmware between turns, kept in its own memory: the quantum it
+ * handed over and the last values that passed, against which the next ones are judged. */
+struct sear_link_watch {
+  int64_t call_cost_ns;    /* the simulator's own copy of what a HAL call costs */
+  int64_t quantum_end_ns;  /* of the quantum handed over */
+  int64_t turn_clock_ns;   /* the firmware's clock when the turn was handed over */
+  int64_t clock_ns;        /* the last clock that passed */
+  uint64_t calls;
+  uint32_t last_call;      /* enum sear_call */
+  int64_t last_event_ns;   /* of pin, PWM, servo and port-start events, which come in time order */
+  int64_t last_tx_ns[SEAR_LINK_UARTS];
+  int64_t last_rx_ns[SEAR_LINK_UARTS];
+};
+
+/* What the firmware reported when it handed the turn back, once checked. */
+struct sear_link_turn {
+  uint32_t request;      /* enum sear_request */
+  uint32_t event_count;  /* <= SEAR_LINK_MAX_EVENTS */
+  int64_t clock_ns;
+  uint32_t last_call;
+  int32_t exit_code;
+  char fatal[sizeof(((struct sear_link *)0)->fatal)]; /* NUL-terminated, printable ASCII */
+};
+
+void sear_link_watch_init(struct sear_link_watch *w, int64_t call_cost_ns);
+
+/* Reads the hand-back of a turn once into `turn` and checks it: guards, request, clock (never
+ * backwards, never past the quantum by more than one call), call count and counts. `handed_back`
+ * is 0 for a firmware that died during its turn, whose request is the previous turn's. Returns 0,
+ * or -1 with a sentence naming the first bad field in `why`. */
+int sear_link_check_turn(const struct sear_link *link, int handed_back, struct sear_link_watch *w,
+                         struct sear_link_turn *turn, char *why, size_t why_size);
+
+/* Copies event i into `out` and checks its kind, index, value and time against the ones before.
+ * Returns 0, or -1 with a sentence in `why`. */
+int sear_link_check_event(const struct sear_link *link, uint32_t i, struct sear_link_watch *w,
+                          struct sear_event *out, char *why, size_t why_size);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
