@@ -166,10 +166,11 @@ TEST(LinkGuard, NoByteIsStampedAfterTheRunsEnd) {
 
 // It crashes 20 ms after its text was queued: the first 16 bytes had to leave (8.333 ms each)
 // before the other 66 fit into the UART, so it crashed at 133.3 + 20 ms, and its log holds only
-// the bytes that had left by then.
+// the bytes that had left by then, although the run goes on (--keep-going) past the times the
+// rest were due.
 TEST(LinkGuard, NoByteIsStampedAfterTheMcuStopped) {
   TempDir dir;
-  const SearRun run = run_sear(dir, rover_project(one_mcu(LATE_CRASH_PROBE), "", 1.0), "--quiet");
+  const SearRun run = run_sear(dir, rover_project(one_mcu(LATE_CRASH_PROBE), "", 1.0), "--quiet --keep-going");
   EXPECT_EQ(run.exit_code, 3) << run.err;
   const auto summary = nlohmann::json::parse(run.file("summary.json"));
   const double crashed_s = summary["mcu_stops"][0]["sim_time_s"].get<double>();
