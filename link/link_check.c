@@ -27,11 +27,13 @@ static int64_t load64(const int64_t *p) { return __atomic_load_n(p, __ATOMIC_ACQ
 int sear_link_check_turn(const struct sear_link *link, int handed_back, struct sear_link_watch *w,
                          struct sear_link_turn *t, char *why, size_t why_size) {
   memset(t, 0, sizeof *t);
-  if (link->magic != SEAR_LINK_MAGIC || link->version != SEAR_LINK_VERSION)
-    FAIL("magic/version (0x%08x/%u instead of 0x%08x/%u)", link->magic, link->version, SEAR_LINK_MAGIC,
-         SEAR_LINK_VERSION);
-  if (link->guard_front != SEAR_LINK_GUARD) FAIL("guard_front (0x%016llx)", (unsigned long long)link->guard_front);
-  if (link->guard_back != SEAR_LINK_GUARD) FAIL("guard_back (0x%016llx)", (unsigned long long)link->guard_back);
+  const uint32_t magic = load32(&link->magic), version = load32(&link->version);
+  if (magic != SEAR_LINK_MAGIC || version != SEAR_LINK_VERSION)
+    FAIL("magic/version (0x%08x/%u instead of 0x%08x/%u)", magic, version, SEAR_LINK_MAGIC, SEAR_LINK_VERSION);
+  const uint64_t front = __atomic_load_n(&link->guard_front, __ATOMIC_ACQUIRE);
+  const uint64_t back = __atomic_load_n(&link->guard_back, __ATOMIC_ACQUIRE);
+  if (front != SEAR_LINK_GUARD) FAIL("guard_front (0x%016llx)", (unsigned long long)front);
+  if (back != SEAR_LINK_GUARD) FAIL("guard_back (0x%016llx)", (unsigned long long)back);
   t->request = load32(&link->request);
   if (t->request > SEAR_REQUEST_FATAL) FAIL("request (%u, not a request the HAL makes)", t->request);
   t->clock_ns = load64(&link->clock_ns);
@@ -56,9 +58,11 @@ int sear_link_check_turn(const struct sear_link *link, int handed_back, struct s
   if (t->event_count > SEAR_LINK_MAX_EVENTS)
     FAIL("event_count (%u, more than the %u the queue holds)", t->event_count, SEAR_LINK_MAX_EVENTS);
   t->exit_code = link->exit_code;
-  /* Only what a report can print: the text ends within its field, in plain ASCII. */
-  for (size_t i = 0; i + 1 < sizeof t->fatal && link->fatal[i]; ++i) {
-    const char c = link->fatal[i];
+  /* Only what a report can print: the text ends within its field, in plain ASCII. Each byte is
+   * read once, into the copy. */
+  for (size_t i = 0; i + 1 < sizeof t->fatal; ++i) {
+    const char c = __atomic_load_n(&link->fatal[i], __ATOMIC_RELAXED);
+    if (!c) break;
     t->fatal[i] = c >= 0x20 && c < 0x7f ? c : '?';
   }
   w->clock_ns = t->clock_ns;

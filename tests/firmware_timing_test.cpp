@@ -127,10 +127,9 @@ TEST(FirmwareTiming, AFirmwareThatStopsCallingTheHalIsReportedHungAfterTheHangTi
   EXPECT_NE(run.err.find("mcu rover.main hung: its clock stood still for 1.5 s of host time"), std::string::npos)
       << run.err;
   EXPECT_NE(run.err.find("at sim time 0.300009 s; last HAL call: delay_ms"), std::string::npos) << run.err;
-  // Its clock stood still for the timeout, so the run took at least that long. The upper bound
-  // is only there to catch a timeout that is ignored altogether, far above any host's jitter.
+  // Its clock stood still for the timeout, so the run took at least that long (no upper bound on
+  // wall time: the report above already says the timeout, not the run's end, stopped it).
   EXPECT_GE(wall_s, timeout_s);
-  EXPECT_LT(wall_s, timeout_s + 10.0);
   const auto summary = nlohmann::json::parse(run.file("summary.json"));
   EXPECT_EQ(summary["status"], "mcu stopped");
   ASSERT_EQ(summary["mcu_stops"].size(), 1u);

@@ -210,12 +210,16 @@ TEST(StopKind, ARefusedCallIsReportedWithTheHalsReasonAndNoCode) {
 
 TEST(RunStatus, CtrlCEndsTheRunInterruptedWithCode130AndASummaryOfTheStepsDone) {
   TempDir dir;
-  // A run far too long to finish, interrupted by SIGINT after a second of wall time.
+  // A run far too long to finish, interrupted by SIGINT once its trace holds a few rows (waited
+  // for, not timed, so that a slow start on a loaded machine changes nothing).
   const auto project = dir.path() / "project.xml";
   std::ofstream(project) << rover_project(kDriveOn + one_mcu(IR_PROBE), "", 1000);
   const auto out = dir.path() / "out";
-  const std::string cmd = "timeout --preserve-status -s INT 1 " + std::string(SEAR_BINARY) + " run " + project.string() +
-                          " -o " + out.string() + " --quiet 2>" + (dir.path() / "stderr").string();
+  const std::string trace_file = (out / "trace_rover.csv").string();
+  const std::string cmd = "bash -c '" + std::string(SEAR_BINARY) + " run " + project.string() + " -o " + out.string() +
+                          " --quiet 2>" + (dir.path() / "stderr").string() + " & p=$!; for i in $(seq 600); do " +
+                          "[ \"$(stat -c %s " + trace_file + " 2>/dev/null || echo 0)\" -gt 2000 ] && break; sleep 0.05; done; " +
+                          "kill -INT $p; wait $p'";
   const int status = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 130) << read_file(dir.path() / "stderr");

@@ -18,12 +18,15 @@ void uart_begin(uint8_t port, uint32_t baud) {
   const int64_t now = mcu_enter(SEAR_CALL_uart_begin);
   struct mcu_uart *u = port_of(port, "uart_begin");
   if (baud < 300 || baud > 2000000) mcu_fatal("uart_begin(%u, %lu): baud must be 300..2000000", port, (unsigned long)baud);
+  /* Bytes still on their way out leave at the old rate first, as a driver flushes before it
+   * changes the baud register; so the port never holds more than its 66 bytes. */
+  if (u->baud && u->last_end_ns > sear_mcu.link->clock_ns) mcu_advance_to(u->last_end_ns);
+  const int64_t start = sear_mcu.link->clock_ns > now ? sear_mcu.link->clock_ns : now;
   u->baud = baud;
-  /* Bytes still on their way out keep their times; the new rate starts after the last of them. */
-  u->anchor_ns = u->last_end_ns > now ? u->last_end_ns : now;
+  u->anchor_ns = start;
   u->burst = 0;
-  u->last_end_ns = u->anchor_ns;
-  mcu_emit(SEAR_EVENT_UART_BEGIN, port, baud, now);
+  u->last_end_ns = start;
+  mcu_emit(SEAR_EVENT_UART_BEGIN, port, baud, start);
 }
 
 static void send(uint8_t port, struct mcu_uart *u, uint8_t byte, int64_t now) {

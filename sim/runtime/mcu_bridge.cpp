@@ -93,20 +93,18 @@ void McuBridge::setup_link(sear_link& link, const void* context) {
 }
 
 void McuBridge::add_sample(std::int64_t time_ns, std::uint64_t index, std::uint32_t input, double value) {
-  sear_link& link = process_->link();
-  if (link.sample_count == SEAR_LINK_MAX_SAMPLES) return;  // more than a quantum can hold: sensors run slower
-  sear_link_sample& s = link.samples[link.sample_count++];
-  s.time_ns = time_ns;
-  s.index = index;
-  s.input = input;
-  s.value = value;
+  if (samples_.size() == SEAR_LINK_MAX_SAMPLES) return;  // more than a quantum can hold: sensors run slower
+  samples_.push_back({time_ns, index, input, 0, value});
 }
 
 void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std::int64_t t1) {
   if (process_->failure()) return;
   sear_link& link = process_->link();
-  link.sample_count = 0;
-  link.rx_count = 0;
+  // Samples and counts are put together here and copied into the link once, last: a firmware (or
+  // anything it forked) can write the link at any time, so nothing the simulator sorts or
+  // indexes with is read back from it.
+  samples_.clear();
+  std::uint32_t rx_count = 0;
   const dBodyID chassis = vehicle_.chassis_body();
   const int self = vehicle_.entity();
   // Rangers measure on their own cycle, k * period; the world between steps is taken as it is at
@@ -123,19 +121,22 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
     const bool closed = lever.any_hit(physics, chassis, self);  // one search of the world per lever
     add_sample(t0, 0, input++, closed ? 1.0 : 0.0);
   }
-  std::stable_sort(link.samples, link.samples + link.sample_count,
+  std::stable_sort(samples_.begin(), samples_.end(),
                    [](const sear_link_sample& a, const sear_link_sample& b) { return a.time_ns < b.time_ns; });
   // Captured bytes due in this quantum (the link holds the most any step can bring).
   for (std::size_t u = 0; u < desc_.uarts.size(); ++u) {
     const auto& bytes = desc_.uarts[u].receive;
     std::size_t& next = receive_next_[u];
-    for (; next < bytes.size() && bytes[next].time_ns < t1 && link.rx_count < SEAR_LINK_MAX_RX; ++next) {
-      sear_link_rx& rx = link.rx[link.rx_count++];
+    for (; next < bytes.size() && bytes[next].time_ns < t1 && rx_count < SEAR_LINK_MAX_RX; ++next) {
+      sear_link_rx& rx = link.rx[rx_count++];
       rx.time_ns = bytes[next].time_ns;
       rx.port = static_cast<std::uint8_t>(desc_.uarts[u].port);
       rx.byte = bytes[next].byte;
     }
   }
+  std::copy(samples_.begin(), samples_.end(), link.samples);
+  link.sample_count = static_cast<std::uint32_t>(samples_.size());
+  link.rx_count = rx_count;
   process_->start_quantum(t1);
 }
 

@@ -73,7 +73,8 @@ class McuBridge {
   std::array<int, SEAR_LINK_PINS> pin_drive_{};
   std::array<bool, SEAR_LINK_PINS> pin_output_{};
   std::array<int, SEAR_LINK_PINS> servo_pulse_us_{};
-  std::vector<std::size_t> receive_next_;  // per desc_.uarts entry: the next captured byte to send
+  std::vector<std::size_t> receive_next_;
+  std::vector<sear_link_sample> samples_;  // for the coming quantum, in time order once sorted  // per desc_.uarts entry: the next captured byte to send
 };
 
 }  // namespace sear

@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -119,6 +120,7 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
   char name[] = "firmware";
   char* argv[] = {name, nullptr};
   char empty[] = "";
+  const char* const path = executable.c_str();
   const pid_t simulator = getpid();
   const int link_fd = out_of_the_way(fd_), exe_fd = out_of_the_way(exe), log_fd = out_of_the_way(log);
   close(exe);
@@ -160,6 +162,9 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
     if (report_fd >= 0) dup3(report_fd, kExecReportFd, O_CLOEXEC);
     syscall(SYS_close_range, static_cast<unsigned>(kExecReportFd + 1), ~0u, 0u);
     syscall(SYS_execveat, kExecutableFd, empty, argv, env.data(), AT_EMPTY_PATH);
+    // A script (#!) cannot be run from a descriptor closed on exec, as its interpreter opens the
+    // path "/dev/fd/4": it runs from its own path, which only its addresses depend on.
+    if (errno == ENOENT) execve(path, argv, env.data());
     const int exec_error = errno;
     const ssize_t reported = write(kExecReportFd, &exec_error, sizeof exec_error);
     _exit(reported == static_cast<ssize_t>(sizeof exec_error) ? 127 : 126);
@@ -214,7 +219,9 @@ void McuProcess::start_quantum(std::int64_t end_ns) {
 
 void McuProcess::resume() {
   link_->event_count = 0;
-  watch_.turn_clock_ns = watch_.clock_ns;
+  // The HAL charged the call whose event found the queue full before handing over: that event,
+  // and any other of the same call, is stamped one call's cost before the clock it reported.
+  watch_.turn_clock_ns = std::max(watch_.turn_clock_ns, watch_.clock_ns - watch_.call_cost_ns);
   sear_handoff_give(&link_->turn, SEAR_TURN_FIRMWARE, &link_->firmware_waiting);
 }
 
@@ -296,6 +303,9 @@ McuProcess::Turn McuProcess::wait() {
   using Clock = std::chrono::steady_clock;
   std::int64_t clock = watch_.clock_ns;
   auto progress_at = Clock::now();
+  // Only a clock that moves forward within its quantum is progress: a firmware that scribbles its
+  // clock (or a thread of it that keeps bumping it) must not hold off the hang check for ever.
+  const std::int64_t latest = watch_.quantum_end_ns + watch_.call_cost_ns;
   for (;;) {
     if (sear_handoff_wait(&link_->turn, SEAR_TURN_SIM, &link_->sim_waiting, kSpinNs, kCheckNs)) {
       char why[256];
@@ -338,7 +348,7 @@ McuProcess::Turn McuProcess::wait() {
     // Hung: its clock stood still for the whole timeout, because it made no HAL call (or only
     // calls that cost nothing, with hal_call_cycles="0"). The raw value only tells progress.
     const std::int64_t now_clock = __atomic_load_n(&link_->clock_ns, __ATOMIC_RELAXED);
-    if (now_clock != clock) {
+    if (now_clock > clock && now_clock <= latest) {
       clock = now_clock;
       progress_at = Clock::now();
     } else if (std::chrono::duration<double>(Clock::now() - progress_at).count() >= hang_timeout_s_) {

@@ -67,6 +67,10 @@ void send(std::int32_t message) {
 
 }  // namespace
 
+void keeper_start() {
+  if (g_pipe < 0) start_keeper();
+}
+
 void keeper_watch(pid_t process_group) { send(static_cast<std::int32_t>(process_group)); }
 
 void keeper_forget(pid_t process_group) { send(-static_cast<std::int32_t>(process_group)); }

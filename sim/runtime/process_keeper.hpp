@@ -9,7 +9,10 @@
 
 namespace sear {
 
-// Forks the keeper on first use. Safe to call from a single-threaded process only.
+// Forks the keeper, if it is not running yet; a run calls it first thing, before it compiles or
+// starts any firmware. Safe to call from a single-threaded process only.
+void keeper_start();
+// Tells the keeper of a process group to kill if the simulator dies (starting it if need be).
 void keeper_watch(pid_t process_group);
 // The group is gone (killed and reaped): its number may be reused, so the keeper forgets it.
 void keeper_forget(pid_t process_group);

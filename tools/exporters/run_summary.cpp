@@ -85,7 +85,9 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
                               {"sim_time_s", static_cast<double>(stop.failure.time_ns) * 1e-9},
                               {"last_hal_call", stop.failure.last_call}});
   j["truncated_files"] = o.truncated_files;
-  return j.dump(2) + "\n";
+  // Names are checked UTF-8 at load, but paths from the command line are the user's bytes: any
+  // that are not UTF-8 are written with U+FFFD rather than losing the whole summary.
+  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace sear

@@ -5,6 +5,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <poll.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -113,7 +114,13 @@ ProcessResult run_process(const std::vector<std::string>& args) {
   char buffer[4096];
   for (;;) {
     if (stop_requested()) break;
-    const ssize_t n = read(fds[0], buffer, sizeof buffer);  // a stop signal interrupts it (no SA_RESTART)
+    // A stop signal landing between the look above and a blocking read would go unseen until the
+    // compiler finished: the read waits only while poll() says there is something to read, and
+    // poll() looks at the flag again every 50 ms.
+    struct pollfd ready = {fds[0], POLLIN, 0};
+    const int polled = poll(&ready, 1, 50);
+    if (polled == 0 || (polled < 0 && errno == EINTR)) continue;
+    const ssize_t n = read(fds[0], buffer, sizeof buffer);
     if (n > 0) {
       result.output.append(buffer, static_cast<std::size_t>(n));
     } else if (n == 0 || errno != EINTR) {

@@ -12,6 +12,7 @@
 #include "exporters/mcu_capture.hpp"
 #include "exporters/run_summary.hpp"
 #include "exporters/trace_csv.hpp"
+#include "runtime/process_keeper.hpp"
 #include "runtime/stop_request.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
@@ -70,8 +71,10 @@ std::vector<std::string> note_truncated_host_logs(const std::string& out_dir, co
 }  // namespace
 
 int run_command(const RunOptions& options) {
-  // First of all, so that a Ctrl-C while loading or compiling is honoured as cleanly as later.
+  // First of all, so that a Ctrl-C while loading or compiling is honoured as cleanly as later,
+  // and so that whatever the run starts is the keeper's to kill if the simulator is killed.
   install_stop_signals();
+  keeper_start();
   Diagnostics diagnostics;
   const std::string path = resolve_project_path(options.project);
   auto project = load_project(path, diagnostics);
