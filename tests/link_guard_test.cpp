@@ -139,6 +139,29 @@ TEST(LinkGuard, ALoopThatTakesNoSimulatedTimeIsAHang) {
   EXPECT_DOUBLE_EQ(summary["mcu_stops"][0]["sim_time_s"].get<double>(), 0.0);
 }
 
+// With hal_call_cycles="1" at 16 MHz each call costs llround(62.5) = 63 ns, so a toggling loop
+// fills the 2048-event queue eight times a quantum: each full queue is drained mid-call and the
+// run goes on, every edge 63 ns after the one before (it was once taken for corruption).
+TEST(LinkGuard, AQueueFilledMidQuantumIsDrainedAndEveryEdgeKept) {
+  TempDir dir;
+  const SearRun run = run_sear(dir, rover_project(one_mcu(FLOOD_FREE_PROBE, " hal_call_cycles=\"1\""), "", 0.01), "--quiet");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  long long last = -1, edges = 0;
+  bool spaced = true;
+  for (const auto& line : lines_of(run.file("rover.main.pins.vcd"))) {
+    if (line.empty() || line[0] != '#') continue;
+    const long long t = std::stoll(line.substr(1));
+    if (t == 0) continue;  // the initial values
+    if (last > 0 && t - last != 63) spaced = false;
+    last = t;
+    ++edges;
+  }
+  EXPECT_TRUE(spaced);
+  // From the first toggle, a few calls in, to the 10 ms end: 10 ms / 63 ns = 158 730 calls.
+  EXPECT_GE(edges, 158720);
+  EXPECT_LE(edges, 158731);
+}
+
 // Largest time_s of the `tx` lines of a UART log.
 double last_tx_s(const std::string& log) {
   double last = 0;
