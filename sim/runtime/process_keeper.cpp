@@ -36,7 +36,10 @@ int g_pipe = -1;  // the write end; the keeper reads the other
   _exit(0);
 }
 
-void start_keeper() {
+}  // namespace
+
+void keeper_start() {
+  if (g_pipe >= 0) return;
   int fds[2];
   if (pipe2(fds, O_CLOEXEC) != 0) return;  // no keeper: the parent-death signal still applies
   const pid_t pid = fork();
@@ -58,18 +61,16 @@ void start_keeper() {
   g_pipe = fds[1];
 }
 
+namespace {
+
 void send(std::int32_t message) {
-  if (g_pipe < 0) start_keeper();
+  keeper_start();
   if (g_pipe < 0) return;
   while (write(g_pipe, &message, sizeof message) < 0 && errno == EINTR) {
   }
 }
 
 }  // namespace
-
-void keeper_start() {
-  if (g_pipe < 0) start_keeper();
-}
 
 void keeper_watch(pid_t process_group) { send(static_cast<std::int32_t>(process_group)); }
 

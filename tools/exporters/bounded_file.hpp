@@ -24,8 +24,6 @@ class BoundedFile {
   void flush();
   const std::string& path() const { return path_; }
   bool truncated() const { return dropped_ > 0; }
-  std::uint64_t dropped_bytes() const { return dropped_; }
-  std::uint64_t limit_bytes() const { return limit_; }
 
  private:
   std::string path_;

@@ -3,8 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cstdio>
-#include <stdexcept>
+
+#include "exporters/stdout_text.hpp"
 
 namespace sear {
 namespace {
@@ -42,19 +42,6 @@ std::unique_ptr<BoundedFile> McuCapture::open(const std::string& name, const std
   return file;
 }
 
-std::vector<std::string> McuCapture::files() const {
-  std::vector<std::string> paths;
-  for (const auto* f : all_) paths.push_back(f->path());
-  return paths;
-}
-
-std::vector<const BoundedFile*> McuCapture::truncated() const {
-  std::vector<const BoundedFile*> out;
-  for (const auto* f : all_)
-    if (f->truncated()) out.push_back(f);
-  return out;
-}
-
 McuCapture::PortFiles& McuCapture::port(State& s, int n) {
   auto it = s.ports.find(n);
   if (it != s.ports.end()) return it->second;
@@ -71,11 +58,7 @@ McuCapture::PortFiles& McuCapture::port(State& s, int n) {
 
 void McuCapture::end_line(State& s, std::int64_t time_ns) {
   s.console->write(fmt::format("{} {}\n", seconds(time_ns), s.line));
-  if (echo_) {
-    // A closed standard output (`sear run | head`) ends the echo; the run and its files go on.
-    const std::string text = fmt::format("[{:>11.6f}] {}: {}\n", static_cast<double>(time_ns) * 1e-9, s.mcu.id, s.line);
-    if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0) echo_ = false;
-  }
+  if (echo_) print_to_stdout(fmt::format("[{:>11.6f}] {}: {}\n", static_cast<double>(time_ns) * 1e-9, s.mcu.id, s.line));
   s.line.clear();
 }
 

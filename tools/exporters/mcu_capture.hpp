@@ -34,9 +34,8 @@ class McuCapture : public McuListener {
   // The run ended at end_ns: writes what is due by then, drops the rest, ends any console line
   // still open and flushes every file, so that all of it is on disk.
   void finish(std::int64_t end_ns);
-  std::vector<std::string> files() const;
-  // The files that reached their limit.
-  std::vector<const BoundedFile*> truncated() const;
+  // Its files, in the order they were opened, for listing and for reporting those cut short.
+  std::vector<const BoundedFile*> outputs() const { return {all_.begin(), all_.end()}; }
 
  private:
   struct PortFiles {

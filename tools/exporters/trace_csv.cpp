@@ -31,7 +31,6 @@ TraceCsv::TraceCsv(const std::string& folder, const Simulation& sim, std::uint64
     const RobotDesc& d = sim.robot(r).desc();
     const std::string path = fmt::format("{}/trace_{}.csv", folder, d.name);
     files_.push_back(std::make_unique<BoundedFile>(path, max_file_bytes, text_truncation_note(max_file_bytes)));
-    paths_.push_back(path);
     std::string header =
         "time_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad,vx_mps,vy_mps,vz_mps,wx_radps,wy_radps,wz_radps,forward_mps";
     for (const auto& w : d.wheels) header += fmt::format(",wheel_{}_radps", w.name);
@@ -66,10 +65,9 @@ void TraceCsv::write_row(const Simulation& sim) {
   flush();
 }
 
-std::vector<const BoundedFile*> TraceCsv::truncated() const {
+std::vector<const BoundedFile*> TraceCsv::outputs() const {
   std::vector<const BoundedFile*> out;
-  for (const auto& f : files_)
-    if (f->truncated()) out.push_back(f.get());
+  for (const auto& f : files_) out.push_back(f.get());
   return out;
 }
 

@@ -19,12 +19,11 @@ class TraceCsv {
   TraceCsv(const std::string& folder, const Simulation& sim, std::uint64_t max_file_bytes);
   void write_row(const Simulation& sim);
   void flush();
-  const std::vector<std::string>& files() const { return paths_; }
-  std::vector<const BoundedFile*> truncated() const;
+  // Its files, one per robot, for listing and for reporting those cut short.
+  std::vector<const BoundedFile*> outputs() const;
 
  private:
   std::vector<std::unique_ptr<BoundedFile>> files_;
-  std::vector<std::string> paths_;
 };
 
 }  // namespace sear

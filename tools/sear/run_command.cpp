@@ -5,12 +5,12 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "exporters/mcu_capture.hpp"
 #include "exporters/run_summary.hpp"
+#include "exporters/stdout_text.hpp"
 #include "exporters/trace_csv.hpp"
 #include "runtime/process_keeper.hpp"
 #include "runtime/stop_request.hpp"
@@ -33,14 +33,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Standard output may be a pipe that closes early (`sear run | head -2`): what is printed there
-// is for people, so a failed write ends the printing, never the run or its files.
-bool g_stdout_open = true;
-void print_out(const std::string& text) {
-  if (!g_stdout_open) return;
-  if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0) g_stdout_open = false;
-}
-
 // 128 + the signal, as shells report a process ended by it; Ctrl-C gives 130.
 int interrupted_exit_code() { return 128 + stop_signal(); }
 
@@ -51,6 +43,7 @@ std::string interrupted_status() {
 
 // A firmware writes its own host log, under a file-size limit set on its process; at the limit
 // its writes fail, and the note is added here, by the simulator, which has no such limit.
+// Returns the logs cut short.
 std::vector<std::string> note_truncated_host_logs(const std::string& out_dir, const std::vector<McuCapture::Mcu>& mcus,
                                                   std::uint64_t max_file_bytes) {
   std::vector<std::string> truncated;
@@ -62,7 +55,6 @@ std::vector<std::string> note_truncated_host_logs(const std::string& out_dir, co
     char last = '\n';
     std::ifstream(log, std::ios::binary).seekg(-1, std::ios::end).get(last);
     std::ofstream(log, std::ios::app) << (last == '\n' ? "" : "\n") << text_truncation_note(max_file_bytes);
-    fmt::print(stderr, "sear: {} reached its limit of {} bytes (--max-file-mb) and was cut short\n", log, max_file_bytes);
     truncated.push_back(log);
   }
   return truncated;
@@ -171,23 +163,21 @@ int run_command(const RunOptions& options) {
                      : physics_failed   ? "physics failed"
                      : !outcome.mcu_stops.empty() ? "mcu stopped"
                                                   : "completed";
-    std::vector<const BoundedFile*> truncated = trace.truncated();
-    for (const auto* f : capture.truncated()) truncated.push_back(f);
-    for (const auto* f : truncated) {
-      fmt::print(stderr, "sear: {} reached its limit of {} bytes (--max-file-mb) and was cut short\n", f->path(),
-                 f->limit_bytes());
-      outcome.truncated_files.push_back(f->path());
-    }
+    std::vector<const BoundedFile*> outputs = trace.outputs();
+    for (const auto* f : capture.outputs()) outputs.push_back(f);
+    for (const auto* f : outputs)
+      if (f->truncated()) outcome.truncated_files.push_back(f->path());
     for (auto& log : note_truncated_host_logs(options.out_dir, mcus, max_file_bytes))
       outcome.truncated_files.push_back(std::move(log));
+    for (const auto& f : outcome.truncated_files)
+      fmt::print(stderr, "sear: {} reached its limit of {} bytes (--max-file-mb) and was cut short\n", f, max_file_bytes);
     const std::string text = summary_text(sim, outcome);
     write_file(options.out_dir + "/summary.txt", text);
     write_file(options.out_dir + "/summary.json", summary_json(sim, outcome));
     if (!options.quiet) {
       std::string listing = fmt::format("  output: {}/ (summary.txt, summary.json", options.out_dir);
-      for (const auto& f : trace.files()) listing += ", " + std::filesystem::path(f).filename().string();
-      for (const auto& f : capture.files()) listing += ", " + std::filesystem::path(f).filename().string();
-      print_out(text + listing + ")\n");
+      for (const auto* f : outputs) listing += ", " + std::filesystem::path(f->path()).filename().string();
+      print_to_stdout(text + listing + ")\n");
     }
     if (interrupted) {
       fmt::print(stderr, "sear: {}\n", interrupted_status());
