@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #define SEAR_LINK_MAGIC 0x52414553u /* "SEAR" little-endian */
-#define SEAR_LINK_VERSION 2u
+#define SEAR_LINK_VERSION 3u
 /* Guards at both ends of the firmware's writable part: a stray write that runs over them is seen
  * at the next turn even when every value it hit still looks plausible. */
 #define SEAR_LINK_GUARD 0x5EA75EA75EA75EA7ull
@@ -48,20 +48,26 @@ enum sear_request {
   SEAR_REQUEST_FATAL = 3         /* the HAL refused a call; `fatal` says why */
 };
 
-/* What a wired input is; its samples are physical truth, the device model runs in the firmware. */
+/* What a wired input is: a device whose model runs in the firmware's process (DESIGN.md, "Where
+ * device models run"). The simulator sends it physical truth as samples; the model turns them into
+ * volts, levels, edges or registers. Each kind says what its pins[], param[] and sample values hold. */
 enum sear_input_kind {
-  SEAR_INPUT_GP2D12 = 1, /* analog ranger on an ADC channel; samples are distances in metres */
-  SEAR_INPUT_GP2D15 = 2, /* digital ranger on a pin; samples are distances in metres */
-  SEAR_INPUT_SWITCH = 3  /* a contact to ground on a pin; samples are 1 (closed) or 0 (open) */
+  SEAR_INPUT_GP2D12 = 1, /* pins[0] ADC channel; param[0] noise sd (V); value[0] distance (m, inf: none) */
+  SEAR_INPUT_GP2D15 = 2, /* pins[0] output pin; param[0] switch distance, [1] hysteresis (m); value[0] distance */
+  SEAR_INPUT_SWITCH = 3, /* pins[0] pin; value[0] 1 closed (to ground) or 0 open */
+  SEAR_INPUT_KIND_END
 };
 
+#define SEAR_LINK_INPUT_PINS 4
+#define SEAR_LINK_INPUT_PARAMS 8
+#define SEAR_LINK_SAMPLE_VALUES 6
+#define SEAR_LINK_NO_PIN 0xFFu
+
 struct sear_link_input {
-  uint32_t kind;   /* enum sear_input_kind */
-  uint32_t target; /* ADC channel or pin */
-  uint64_t seed;   /* for the device's noise */
-  double noise_sd; /* volts (GP2D12) */
-  double switch_distance_m;
-  double hysteresis_m;
+  uint32_t kind;                         /* enum sear_input_kind */
+  uint32_t pins[SEAR_LINK_INPUT_PINS];   /* pins, ADC channels, chip selects or addresses; SEAR_LINK_NO_PIN unused */
+  uint64_t seed;                         /* for the device's noise */
+  double param[SEAR_LINK_INPUT_PARAMS];  /* the device's figures, per kind */
 };
 
 struct sear_link_sample {
@@ -69,7 +75,7 @@ struct sear_link_sample {
   uint64_t index; /* the device's measurement number, for its noise */
   uint32_t input; /* into inputs[] */
   uint32_t reserved;
-  double value;
+  double value[SEAR_LINK_SAMPLE_VALUES];
 };
 
 struct sear_link_rx {

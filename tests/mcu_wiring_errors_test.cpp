@@ -56,7 +56,7 @@ TEST(McuWiringErrors, AValidMcuLoads) {
   const McuDesc& mcu = l.project->robots[0].mcus[0];
   EXPECT_EQ(mcu.firmware_sources.size(), 1u);
   EXPECT_DOUBLE_EQ(mcu.clock_hz, 16e6);
-  EXPECT_EQ(mcu.rangers[0].adc_channel, 0);
+  EXPECT_EQ(mcu.devices[0].wire("adc"), 0);
   EXPECT_TRUE(mcu.uarts[0].loopback);
 }
 
@@ -122,7 +122,7 @@ TEST(McuWiringErrors, AnMcuTakesAtMost32Sensors) {
   for (int pin = 22; pin < 22 + 33; ++pin)
     bumps += "      <bump name=\"b" + std::to_string(pin) + "\" pin=\"" + std::to_string(pin) + "\"/>\n";
   TempDir dir;
-  EXPECT_TRUE(says(load(dir, project_with(kFirmware + bumps)), 4, {"mcu 'main' has 33 sensors; an MCU takes at most 32"}));
+  EXPECT_TRUE(says(load(dir, project_with(kFirmware + bumps)), 4, {"mcu 'main' has 33 sensors served in its process; an MCU takes at most 32"}));
 }
 
 }  // namespace

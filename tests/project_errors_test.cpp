@@ -16,6 +16,7 @@
 #include "temp_dir.hpp"
 #include "scene/diagnostics.hpp"
 #include "scene/geodetic.hpp"
+#include "scene/device_kind.hpp"
 #include "scene/project_loader.hpp"
 
 namespace sear {
@@ -492,13 +493,14 @@ TEST(ProjectErrors, TheBundledDefaultProjectLoadsAsWritten) {
   ASSERT_EQ(mcu.firmware_sources.size(), 1u);
   EXPECT_EQ(fs::path(mcu.firmware_sources[0]).filename(), "avoider.c");
   EXPECT_TRUE(fs::exists(mcu.firmware_sources[0]));
-  ASSERT_EQ(mcu.rangers.size(), 3u);
-  EXPECT_EQ(mcu.rangers[0].adc_channel, 0);
-  EXPECT_NEAR(mcu.rangers[0].yaw_rad, 30 * kPi / 180, 1e-12);
-  EXPECT_EQ(mcu.rangers[2].model, IrRangerDesc::Model::Gp2d15);
-  EXPECT_EQ(mcu.rangers[2].pin, 22);
-  ASSERT_EQ(mcu.bumps.size(), 1u);
-  EXPECT_EQ(mcu.bumps[0].pin, 2);
+  ASSERT_EQ(mcu.devices.size(), 4u);
+  EXPECT_STREQ(mcu.devices[0].kind->element, "gp2d12");
+  EXPECT_EQ(mcu.devices[0].wire("adc"), 0);
+  EXPECT_NEAR(mcu.devices[0].yaw_rad, 30 * kPi / 180, 1e-12);
+  EXPECT_STREQ(mcu.devices[2].kind->element, "gp2d15");
+  EXPECT_EQ(mcu.devices[2].wire("pin"), 22);
+  EXPECT_STREQ(mcu.devices[3].kind->element, "bump");
+  EXPECT_EQ(mcu.devices[3].wire("pin"), 2);
   ASSERT_EQ(mcu.motors.size(), 2u);
   EXPECT_EQ(mcu.motors[0].motor, "left");
   EXPECT_EQ(mcu.motors[0].pwm_pin, 3);

@@ -13,7 +13,10 @@ void pin_mode(uint8_t pin, uint8_t mode) {
   sear_mcu.mode[pin] = mode;
   sear_mcu.pwm[pin] = 0;
   mcu_emit(SEAR_EVENT_PIN_MODE, pin, mode, now);
-  if (mode == OUTPUT) mcu_emit(SEAR_EVENT_PIN, pin, sear_mcu.latch[pin], now);
+  if (mode == OUTPUT) {
+    mcu_emit(SEAR_EVENT_PIN, pin, sear_mcu.latch[pin], now);
+    mcu_devices_pin_written(pin, sear_mcu.latch[pin], now);
+  }
 }
 
 uint8_t digital_read(uint8_t pin) {
@@ -27,7 +30,10 @@ static void drive(uint8_t pin, uint8_t level, int64_t now) {
   const int was_pwm = sear_mcu.pwm[pin];
   sear_mcu.latch[pin] = level;
   sear_mcu.pwm[pin] = 0; /* as on the chip's timer pins: a digital write ends the PWM waveform */
-  if (sear_mcu.mode[pin] == OUTPUT && (was != level || was_pwm)) mcu_emit(SEAR_EVENT_PIN, pin, level, now);
+  if (sear_mcu.mode[pin] == OUTPUT && (was != level || was_pwm)) {
+    mcu_emit(SEAR_EVENT_PIN, pin, level, now);
+    mcu_devices_pin_written(pin, level, now);
+  }
 }
 
 void digital_write(uint8_t pin, uint8_t level) {

@@ -13,6 +13,14 @@
 #define MCU_FLOATING 0xFF     /* nothing outside drives the pin */
 #define MCU_ARRIVALS 512      /* received bytes not yet due, per port */
 #define MCU_TIME_NEVER INT64_MAX
+#define MCU_NO_DEVICE 0xFF    /* no device listens to the pin */
+
+/* The state of one wired input's model (devices.c says which member its kind uses). */
+struct mcu_device {
+  union {
+    struct gp2d15 gp2d15;
+  } u;
+};
 
 struct mcu_arrival {
   int64_t time_ns;
@@ -56,7 +64,8 @@ struct mcu {
 
   uint32_t sample_next; /* into link->samples for the current quantum */
   double analog_v[SEAR_LINK_ADC_CHANNELS];
-  struct gp2d15 rangers[SEAR_LINK_MAX_INPUTS];
+  struct mcu_device devices[SEAR_LINK_MAX_INPUTS];
+  uint8_t pin_device[SEAR_LINK_PINS]; /* the input told of the firmware's writes to the pin */
 
   uint8_t mode[SEAR_LINK_PINS];
   uint8_t latch[SEAR_LINK_PINS];   /* the level the firmware drives when the pin is an output */

@@ -5,7 +5,7 @@
 
 #include <stdio.h>
 
-#include "devices/sharp_gp2d12.h"
+#include "devices.h"
 #include "link_end.h"
 #include "pins.h"
 
@@ -44,6 +44,8 @@ static int64_t earliest_input(void) {
   const int64_t a = earliest_arrival();
   if (a < t) t = a;
   if (sear_mcu.timer_handler && sear_mcu.timer_due_ns < t) t = sear_mcu.timer_due_ns;
+  const int64_t d = mcu_devices_next_event();
+  if (d < t) t = d;
   return t;
 }
 
@@ -62,24 +64,6 @@ void mcu_reschedule(void) {
   if (input < t) t = input;
   if (sear_mcu.irq_enabled && !sear_mcu.in_isr && interrupt_pending()) t = 0;
   sear_mcu.next_due_ns = t;
-}
-
-static void apply_sample(const struct sear_link_sample *s) {
-  const struct sear_link_input *in = &sear_mcu.link->inputs[s->input];
-  switch (in->kind) {
-    case SEAR_INPUT_GP2D12:
-      sear_mcu.analog_v[in->target] = gp2d12_sample_v(s->value, in->seed, s->index, in->noise_sd);
-      break;
-    case SEAR_INPUT_GP2D15:
-      mcu_set_driven((uint8_t)in->target, (uint8_t)gp2d15_update(&sear_mcu.rangers[s->input], s->value));
-      break;
-    case SEAR_INPUT_SWITCH:
-      /* A closed contact pulls the pin to ground; an open one leaves it to the pull-up. */
-      mcu_set_driven((uint8_t)in->target, s->value != 0.0 ? 0 : MCU_FLOATING);
-      break;
-    default:
-      break;
-  }
 }
 
 /* What the chip's RX interrupt does with a byte: hand it to the attached handler (later, in
@@ -119,7 +103,7 @@ static void apply_due(int64_t now) {
   const struct sear_link *link = sear_mcu.link;
   for (;;) {
     int64_t t = MCU_TIME_NEVER;
-    int which = -1; /* 0 sample, 1 timer, 2 + port: arrival */
+    int which = -1; /* 0 sample, 1 timer, 2 + port: arrival, 2 + SEAR_LINK_UARTS: a device's event */
     if (sear_mcu.sample_next < link->sample_count) {
       t = link->samples[sear_mcu.sample_next].time_ns;
       which = 0;
@@ -135,9 +119,16 @@ static void apply_due(int64_t now) {
         which = 2 + port;
       }
     }
+    const int64_t device = mcu_devices_next_event();
+    if (device < t) {
+      t = device;
+      which = 2 + SEAR_LINK_UARTS;
+    }
     if (which < 0 || t > now) return;
     if (which == 0) {
-      apply_sample(&link->samples[sear_mcu.sample_next++]);
+      mcu_devices_sample(&link->samples[sear_mcu.sample_next++]);
+    } else if (which == 2 + SEAR_LINK_UARTS) {
+      mcu_devices_run_due(t);
     } else if (which == 1) {
       /* One pending flag, as in the timer's hardware: ticks missed meanwhile are lost. */
       sear_mcu.timer_pending = 1;
@@ -248,9 +239,7 @@ __attribute__((constructor(101))) static void start_mcu(void) {
   sear_mcu.cost_ns = link->hal_call_cost_ns;
   sear_mcu.adc_bits = 10;
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) sear_mcu.driven[pin] = MCU_FLOATING;
-  const uint32_t inputs = link->input_count < SEAR_LINK_MAX_INPUTS ? link->input_count : SEAR_LINK_MAX_INPUTS;
-  for (uint32_t i = 0; i < inputs; ++i)
-    gp2d15_init(&sear_mcu.rangers[i], link->inputs[i].switch_distance_m, link->inputs[i].hysteresis_m);
+  mcu_devices_init();
   mcu_link_first_turn();
   mcu_take_quantum();
   mcu_reschedule();

@@ -6,42 +6,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "scene/device_kind.hpp"
+
 namespace sear {
 namespace {
-
-// Independent noise streams per device from one run seed (splitmix64's finaliser).
-std::uint64_t mix(std::uint64_t seed, std::uint64_t salt) {
-  std::uint64_t z = seed + 0x9E3779B97F4A7C15ull * (salt + 1);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-RangeBeam beam_of(const IrRangerDesc& s) {
-  RangeBeam b;
-  b.position_m = s.position_m;
-  b.yaw_rad = s.yaw_rad;
-  b.pitch_rad = s.pitch_rad;
-  b.half_angle_rad = s.half_angle_rad;
-  b.resolution_rad = s.resolution_rad;
-  b.max_range_m = s.max_range_m;
-  return b;
-}
-
-// A lever is felt along its whole width: parallel rays at most 2 cm apart, each its reach long.
-std::vector<RangeSensor> lever_rays(const BumpSwitchDesc& b) {
-  const int n = std::max(1, static_cast<int>(std::ceil(b.width_m / 0.02))) + 1;
-  const Eigen::Vector3d across(-std::sin(b.yaw_rad), std::cos(b.yaw_rad), 0);
-  std::vector<RangeSensor> rays;
-  for (int i = 0; i < n; ++i) {
-    RangeBeam beam;
-    beam.position_m = b.position_m + across * (b.width_m * (static_cast<double>(i) / (n - 1) - 0.5));
-    beam.yaw_rad = b.yaw_rad;
-    beam.max_range_m = b.reach_m;
-    rays.emplace_back(beam);
-  }
-  return rays;
-}
 
 std::int64_t call_cost_ns(const McuDesc& d) { return std::llround(d.hal_call_cycles * 1e9 / d.clock_hz); }
 
@@ -49,12 +17,14 @@ std::int64_t call_cost_ns(const McuDesc& d) { return std::llround(d.hal_call_cyc
 
 McuBridge::McuBridge(const McuDesc& desc, std::string id, Vehicle& vehicle, std::uint64_t seed,
                      const std::string& host_log, const McuRunOptions& options)
-    : desc_(desc), id_(std::move(id)), vehicle_(vehicle), seed_(seed) {
-  for (const auto& s : desc_.rangers) {
-    rangers_.emplace_back(beam_of(s));
-    ranger_period_ns_.push_back(std::llround(s.period_s * 1e9));
+    : desc_(desc), id_(std::move(id)), vehicle_(vehicle) {
+  DeviceHost host(desc_, seed, inputs_);
+  for (std::size_t i = 0; i < desc_.devices.size(); ++i) {
+    host.set_device(i);
+    devices_.push_back(desc_.devices[i].kind->make(desc_.devices[i], host));
   }
-  for (const auto& b : desc_.bumps) bumps_.emplace_back(lever_rays(b));
+  if (inputs_.size() > SEAR_LINK_MAX_INPUTS)  // the loader already said where
+    throw std::runtime_error(fmt::format("mcu {}: more than {} inputs", id_, SEAR_LINK_MAX_INPUTS));
   receive_next_.assign(desc_.uarts.size(), 0);
   McuProcessOptions process;
   process.hang_timeout_s = options.hang_timeout_s;
@@ -69,32 +39,10 @@ void McuBridge::setup_link(sear_link& link, const void* context) {
   link.hal_call_cost_ns = call_cost_ns(d);
   link.avcc_v = d.avcc_v;
   link.aref_v = d.aref_v;
-  if (d.rangers.size() + d.bumps.size() > SEAR_LINK_MAX_INPUTS)  // the loader already said where
-    throw std::runtime_error(fmt::format("mcu {}: more than {} inputs", self.id_, SEAR_LINK_MAX_INPUTS));
-  std::uint32_t n = 0;
-  for (const auto& s : d.rangers) {
-    sear_link_input& in = link.inputs[n];
-    in.kind = s.model == IrRangerDesc::Model::Gp2d12 ? SEAR_INPUT_GP2D12 : SEAR_INPUT_GP2D15;
-    in.target = static_cast<std::uint32_t>(s.model == IrRangerDesc::Model::Gp2d12 ? s.adc_channel : s.pin);
-    in.seed = mix(self.seed_, n);
-    in.noise_sd = s.noise_sd_v;
-    in.switch_distance_m = s.switch_distance_m;
-    in.hysteresis_m = s.hysteresis_m;
-    ++n;
-  }
-  for (const auto& b : d.bumps) {
-    link.inputs[n].kind = SEAR_INPUT_SWITCH;
-    link.inputs[n].target = static_cast<std::uint32_t>(b.pin);
-    ++n;
-  }
-  link.input_count = n;
+  std::copy(self.inputs_.begin(), self.inputs_.end(), link.inputs);
+  link.input_count = static_cast<std::uint32_t>(self.inputs_.size());
   for (const auto& u : d.uarts)
     if (u.loopback) link.uart_loopback_mask |= 1u << u.port;
-}
-
-void McuBridge::add_sample(std::int64_t time_ns, std::uint64_t index, std::uint32_t input, double value) {
-  if (samples_.size() == SEAR_LINK_MAX_SAMPLES) return;  // more than a quantum can hold: sensors run slower
-  samples_.push_back({time_ns, index, input, 0, value});
 }
 
 void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std::int64_t t1) {
@@ -105,24 +53,8 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
   // indexes with is read back from it.
   samples_.clear();
   std::uint32_t rx_count = 0;
-  const dBodyID chassis = vehicle_.chassis_body();
-  const int self = vehicle_.entity();
-  // Rangers measure on their own cycle, k * period; the world between steps is taken as it is at
-  // the step's start. Samples go in time order, as the firmware applies them.
-  std::uint32_t input = 0;
-  for (std::size_t i = 0; i < rangers_.size(); ++i, ++input) {
-    const std::int64_t period = ranger_period_ns_[i];
-    for (std::int64_t k = (t0 + period - 1) / period; k * period < t1; ++k) {
-      const RangeReading r = rangers_[i].measure(physics, chassis, self);
-      add_sample(k * period, static_cast<std::uint64_t>(k), input, r.hit ? r.distance_m : INFINITY);
-    }
-  }
-  for (const auto& lever : bumps_) {
-    const bool closed = lever.any_hit(physics, chassis, self);  // one search of the world per lever
-    add_sample(t0, 0, input++, closed ? 1.0 : 0.0);
-  }
-  std::stable_sort(samples_.begin(), samples_.end(),
-                   [](const sear_link_sample& a, const sear_link_sample& b) { return a.time_ns < b.time_ns; });
+  const SenseContext context{physics, vehicle_, vehicle_.chassis_body(), vehicle_.entity(), t0, t1};
+  for (const auto& device : devices_) device->sample(context, samples_);
   // Captured bytes due in this quantum (the link holds the most any step can bring).
   for (std::size_t u = 0; u < desc_.uarts.size(); ++u) {
     const auto& bytes = desc_.uarts[u].receive;
@@ -134,8 +66,9 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
       rx.byte = bytes[next].byte;
     }
   }
-  std::copy(samples_.begin(), samples_.end(), link.samples);
-  link.sample_count = static_cast<std::uint32_t>(samples_.size());
+  const std::vector<sear_link_sample>& samples = samples_.sorted();
+  std::copy(samples.begin(), samples.end(), link.samples);
+  link.sample_count = static_cast<std::uint32_t>(samples.size());
   link.rx_count = rx_count;
   process_->start_quantum(t1);
 }

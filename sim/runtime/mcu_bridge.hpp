@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "devices/sim_device.hpp"
 #include "physics/vehicle.hpp"
 #include "runtime/mcu_process.hpp"
 #include "scene/description.hpp"
-#include "sensors/range_sensor.hpp"
 
 namespace sear {
 
@@ -57,24 +57,21 @@ class McuBridge {
 
  private:
   static void setup_link(sear_link& link, const void* self);
-  void add_sample(std::int64_t time_ns, std::uint64_t index, std::uint32_t input, double value);
   void drain(std::size_t index, McuListener& listener);
   void command_actuators();
 
   McuDesc desc_;
   std::string id_;
   Vehicle& vehicle_;
-  std::uint64_t seed_;
-  std::vector<RangeSensor> rangers_;             // desc_.rangers, in order
-  std::vector<RangeSensorSet> bumps_;            // one ray per few centimetres of each lever
-  std::vector<std::int64_t> ranger_period_ns_;
+  std::vector<sear_link_input> inputs_;               // the devices' models in the firmware's process
+  std::vector<std::unique_ptr<SimDevice>> devices_;  // desc_.devices, in order
+  SampleSink samples_;                               // for the coming quantum
   std::unique_ptr<McuProcess> process_;
   // What the firmware drives on each pin: 0..255 (LOW, PWM duty, HIGH); inputs drive nothing.
   std::array<int, SEAR_LINK_PINS> pin_drive_{};
   std::array<bool, SEAR_LINK_PINS> pin_output_{};
   std::array<int, SEAR_LINK_PINS> servo_pulse_us_{};
-  std::vector<std::size_t> receive_next_;
-  std::vector<sear_link_sample> samples_;  // for the coming quantum, in time order once sorted  // per desc_.uarts entry: the next captured byte to send
+  std::vector<std::size_t> receive_next_;  // per desc_.uarts entry: the next captured byte to send
 };
 
 }  // namespace sear

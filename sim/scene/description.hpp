@@ -180,36 +180,26 @@ struct ScriptCommand {
   double pulse_us = 1500;  // servos
 };
 
-// A Sharp infrared ranger on the robot, wired to an MCU: the GP2D12 gives a voltage on an ADC
-// channel, the GP2D15 a level on a pin. The beam is a bundle of rays (see sensors/range_sensor).
-struct IrRangerDesc {
-  enum class Model { Gp2d12, Gp2d15 } model = Model::Gp2d12;
+struct DeviceKind;
+
+// A sensor or other device wired to an MCU, as its kind's row in the device table describes it
+// (scene/device_kind.hpp): where it sits, what it is wired to, and its parameters.
+struct DeviceDesc {
+  const DeviceKind* kind = nullptr;
   std::string name;
   SourceRef source;
   Eigen::Vector3d position_m{0, 0, 0};  // robot frame
   double yaw_rad = 0;                   // counter-clockwise from the robot's x axis
-  double pitch_rad = 0;                 // positive tilts the beam down
-  double half_angle_rad = 0;            // 0: a single ray
-  double resolution_rad = 1 * kDegToRad;
-  double max_range_m = 1.5;             // the rays' length; beyond it the sensor sees nothing
-  double period_s = 0.0383;             // a new measurement this often, output held between
-  double noise_sd_v = 0;                // GP2D12 output noise
-  double switch_distance_m = 0.24;      // GP2D15
-  double hysteresis_m = 0.01;           // GP2D15
-  int adc_channel = -1;                 // GP2D12
-  int pin = -1;                         // GP2D15
-};
+  double pitch_rad = 0;                 // positive tilts the sensor's axis down
+  double roll_rad = 0;                  // about its axis, right-handed
+  std::vector<int> wires;               // per kind->wires: pin, channel, port or address; -1 not wired
+  std::vector<double> values;           // per kind->params, in SI units (Choice: the index)
+  std::vector<std::string> texts;       // per kind->params: a Name's text, else empty
 
-// A bump switch: a lever of `width_m` across the robot's front (or wherever it is mounted) that
-// closes a contact to ground when something comes within `reach_m` of its mount.
-struct BumpSwitchDesc {
-  std::string name;
-  SourceRef source;
-  Eigen::Vector3d position_m{0, 0, 0};  // robot frame, centre of the lever's base
-  double yaw_rad = 0;                   // the direction it faces
-  double width_m = 0.1;
-  double reach_m = 0.01;
-  int pin = -1;
+  // By attribute name; a name the kind does not have is a programming error (std::out_of_range).
+  int wire(const char* attribute) const;
+  double value(const char* attribute) const;
+  const std::string& text(const char* attribute) const;
 };
 
 // A motor's H-bridge inputs on MCU pins: speed as PWM duty on `pwm_pin`, direction on `dir_pin`
@@ -253,8 +243,7 @@ struct McuDesc {
   double avcc_v = 5.0;
   double aref_v = 3.3;
   int console_uart = 0;
-  std::vector<IrRangerDesc> rangers;
-  std::vector<BumpSwitchDesc> bumps;
+  std::vector<DeviceDesc> devices;  // in file order
   std::vector<MotorWiring> motors;
   std::vector<ServoWiring> servos;
   std::vector<UartDesc> uarts;

@@ -155,7 +155,11 @@ std::vector<std::string> ElementReader::names(const char* attribute) {
 
 void ElementReader::children(std::initializer_list<const char*> allowed,
                              const std::function<void(const tinyxml2::XMLElement&)>& visit) {
-  const std::vector<std::string> allowed_names(allowed.begin(), allowed.end());
+  children(std::vector<std::string>(allowed.begin(), allowed.end()), visit);
+}
+
+void ElementReader::children(const std::vector<std::string>& allowed_names,
+                             const std::function<void(const tinyxml2::XMLElement&)>& visit) {
   for (auto* child = element_->FirstChildElement(); child; child = child->NextSiblingElement()) {
     if (std::find(allowed_names.begin(), allowed_names.end(), child->Name()) == allowed_names.end()) {
       diagnostics_.error(file_, child->GetLineNum(),

@@ -60,6 +60,7 @@ class ElementReader {
   // Visits child elements; a child not in `allowed` is an error with a suggestion.
   void children(std::initializer_list<const char*> allowed,
                 const std::function<void(const tinyxml2::XMLElement&)>& visit);
+  void children(const std::vector<std::string>& allowed, const std::function<void(const tinyxml2::XMLElement&)>& visit);
 
   // Reports attributes present in the file that no read above asked for.
   void finish();

@@ -11,6 +11,7 @@
 #include <map>
 #include <unordered_set>
 
+#include "scene/device_kind.hpp"
 #include "scene/loader_parts.hpp"
 #include "scene/nearest_name.hpp"
 #include "scene/uart_capture.hpp"
@@ -35,67 +36,60 @@ int read_index(ElementReader& r, const char* attribute, const Range& range, bool
   return static_cast<int>(*v);
 }
 
-void read_mount(ElementReader& r, Eigen::Vector3d& position, double& yaw) {
-  position = r.vec3("pos", position, ranges::kRobotXYZ);
-  yaw = r.number("yaw_deg", 0.0, ranges::kYaw, "deg") * kDegToRad;
-}
+// I2C addresses are 7 bits; 0..7 and 120..127 are reserved by the bus specification.
+const Range kI2cAddress = Range::between(8, 119, "8..119 (7-bit; 0..7 and 120..127 are reserved)");
 
-// The rays a beam of this half-angle and resolution casts, as sensors/range_sensor.cpp lays them
-// out (the axis, then cones alpha, alpha - delta, ... each with rays at most delta apart). Worked
-// out here too, so that `sear check` refuses a beam the run could not build.
-double beam_ray_count(double half_angle, double resolution) {
-  double total = 1;
-  if (!(half_angle > 0)) return total;
-  const double cones = std::ceil(half_angle / resolution - 1e-9);
-  for (double k = 0; k < cones && total <= 1e6; ++k) {
-    const double ratio = std::sin(0.5 * resolution) / std::sin(half_angle - k * resolution);
-    total += ratio < 1 ? std::max(3.0, std::ceil(M_PI / std::asin(ratio) - 1e-9)) : 3.0;
+const Range& wire_range(WireKind kind) {
+  switch (kind) {
+    case WireKind::AdcChannel: return kAdcChannel;
+    case WireKind::UartPort: return kUartPort;
+    case WireKind::I2cAddress: return kI2cAddress;
+    default: return kPin;
   }
-  return total;
 }
 
-// RangeSensor::kMaxRays: a typo in a resolution should not stall a run.
-constexpr double kMaxBeamRays = 100000;
-
-IrRangerDesc read_ranger(ElementReader& r, IrRangerDesc::Model model) {
-  IrRangerDesc s;
-  s.model = model;
-  s.source = {r.file(), r.line()};
-  s.name = r.required_text("name").value_or("");
-  check_name(r, s.name);
-  read_mount(r, s.position_m, s.yaw_rad);
-  s.pitch_rad = r.number("pitch_deg", 0.0, ranges::kPitch, "deg") * kDegToRad;
-  s.half_angle_rad = r.number("half_angle_deg", 2.0, ranges::kHalfAngle, "deg") * kDegToRad;
-  s.resolution_rad = r.number("resolution_deg", 1.0, ranges::kResolution, "deg") * kDegToRad;
-  if (const double rays = beam_ray_count(s.half_angle_rad, s.resolution_rad); rays > kMaxBeamRays)
-    r.error(fmt::format("<{}> half_angle_deg {:g} with resolution_deg {:g} needs {} rays per measurement; at most {:.0f} "
-                        "(use a coarser resolution_deg)",
-                        r.name(), s.half_angle_rad / kDegToRad, s.resolution_rad / kDegToRad,
-                        rays > 1e6 ? std::string("over 1000000") : fmt::format("{:.0f}", rays), kMaxBeamRays));
-  s.max_range_m = r.number("max_range", 1.5, ranges::kMaxRange, "m");
-  if (model == IrRangerDesc::Model::Gp2d12) {
-    s.adc_channel = read_index(r, "adc", kAdcChannel, true);
-    s.noise_sd_v = r.number("noise_v", 0.01, ranges::kNoiseV, "V");
-  } else {
-    s.pin = read_index(r, "pin", kPin, true);
-    s.switch_distance_m = r.number("switch_distance", 0.24, ranges::kSwitchDistance, "m");
-    s.hysteresis_m = r.number("hysteresis", s.hysteresis_m, ranges::kHysteresis, "m");
+// Any element in the device table: its name, mount, wiring and parameters as its row lists them.
+DeviceDesc read_device(ElementReader& r, const DeviceKind& kind) {
+  DeviceDesc d;
+  d.kind = &kind;
+  d.source = {r.file(), r.line()};
+  d.name = r.required_text("name").value_or("");
+  check_name(r, d.name);
+  if (kind.mount != Mount::None) {
+    d.position_m = r.vec3("pos", d.position_m, ranges::kRobotXYZ);
+    d.yaw_rad = r.number("yaw_deg", 0.0, ranges::kYaw, "deg") * kDegToRad;
   }
+  if (kind.mount == Mount::PositionYawPitch || kind.mount == Mount::Full)
+    d.pitch_rad = r.number("pitch_deg", 0.0, ranges::kPitch, "deg") * kDegToRad;
+  if (kind.mount == Mount::Full) d.roll_rad = r.number("roll_deg", 0.0, ranges::kYaw, "deg") * kDegToRad;
+  for (const DeviceWire& w : kind.wires) {
+    const int index = read_index(r, w.attribute, wire_range(w.kind), w.required);
+    d.wires.push_back(index >= 0 || r.has(w.attribute) ? index : w.fallback);
+  }
+  for (const DeviceParam& p : kind.params) {
+    double value = p.fallback;
+    std::string text;
+    switch (p.type) {
+      case DeviceParam::Type::Number:
+        value = r.number(p.attribute, p.fallback, p.range, p.unit);
+        break;
+      case DeviceParam::Type::Whole:
+        value = r.whole_number(p.attribute, p.fallback, p.range);
+        break;
+      case DeviceParam::Type::Choice:
+        value = static_cast<double>(r.choice(p.attribute, p.choices, static_cast<std::size_t>(p.fallback)));
+        break;
+      case DeviceParam::Type::Name:
+      case DeviceParam::Type::Wheel:
+        text = r.required_text(p.attribute).value_or("");
+        break;
+    }
+    d.values.push_back(p.type == DeviceParam::Type::Choice ? value : value * p.to_si);
+    d.texts.push_back(text);
+  }
+  if (kind.check) kind.check(d, r);
   r.finish();
-  return s;
-}
-
-BumpSwitchDesc read_bump(ElementReader& r) {
-  BumpSwitchDesc b;
-  b.source = {r.file(), r.line()};
-  b.name = r.required_text("name").value_or("");
-  check_name(r, b.name);
-  read_mount(r, b.position_m, b.yaw_rad);
-  b.pin = read_index(r, "pin", kPin, true);
-  b.width_m = r.number("width", b.width_m, ranges::kBumpWidth, "m");
-  b.reach_m = r.number("reach", b.reach_m, ranges::kBumpReach, "m");
-  r.finish();
-  return b;
+  return d;
 }
 
 MotorWiring read_motor_wiring(ElementReader& r) {
@@ -158,14 +152,14 @@ void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diag
       r.whole_number("console_uart", 0, Range::between(-1, 3, "0..3, or -1 for no console")));
   check_at_most_one(element, file, diagnostics, {"firmware"});
   if (!element.FirstChildElement("firmware")) r.error("<mcu> needs a <firmware> naming its executable or sources");
-  r.children({"firmware", "gp2d12", "gp2d15", "bump", "motor", "servo", "uart"},
+  std::vector<std::string> allowed = {"firmware", "motor", "servo", "uart"};
+  for (const DeviceKind* k : device_kinds()) allowed.emplace_back(k->element);
+  r.children(allowed,
              [&](const tinyxml2::XMLElement& child) {
                ElementReader c(&child, file, diagnostics);
                const std::string kind = child.Name();
                if (kind == "firmware") read_firmware(c, mcu);
-               else if (kind == "gp2d12") mcu.rangers.push_back(read_ranger(c, IrRangerDesc::Model::Gp2d12));
-               else if (kind == "gp2d15") mcu.rangers.push_back(read_ranger(c, IrRangerDesc::Model::Gp2d15));
-               else if (kind == "bump") mcu.bumps.push_back(read_bump(c));
+               else if (const DeviceKind* device = find_device_kind(kind)) mcu.devices.push_back(read_device(c, *device));
                else if (kind == "motor") mcu.motors.push_back(read_motor_wiring(c));
                else if (kind == "servo") {
                  ServoWiring s;
@@ -198,7 +192,8 @@ void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics) {
     diagnostics.error(at.file, at.line, fmt::format("robot '{}': {}", robot.name, message));
   };
   // Hash sets keep the checks linear in the number of parts.
-  std::vector<std::string> motor_names, servo_names;
+  std::vector<std::string> motor_names, servo_names, wheel_names;
+  for (const auto& w : robot.wheels) wheel_names.push_back(w.name);
   std::unordered_set<std::string> mcu_names;
   for (const auto& m : robot.motors) motor_names.push_back(m.name);
   for (const auto& s : robot.servos) servo_names.push_back(s.name);
@@ -220,16 +215,36 @@ void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics) {
       const auto [it, fresh] = table.emplace(index, user);
       if (!fresh) fail(at, fmt::format("mcu '{}': {} {} is wired to both '{}' and '{}'", mcu.name, what, index, it->second, user));
     };
-    for (const auto& s : mcu.rangers) {
-      part(s.source, s.name);
-      use(channel_use, "ADC channel", s.adc_channel, s.source, s.name);
-      // ADC channel n is pin A<n> (54 + n): one pin, whichever way it is named.
-      if (s.adc_channel >= 0) use(pin_use, "pin", 54 + s.adc_channel, s.source, s.name);
-      use(pin_use, "pin", s.pin, s.source, s.name);
-    }
-    for (const auto& b : mcu.bumps) {
-      part(b.source, b.name);
-      use(pin_use, "pin", b.pin, b.source, b.name);
+    std::map<int, std::string> address_use;
+    std::size_t inputs = 0;
+    for (const auto& d : mcu.devices) {
+      part(d.source, d.name);
+      inputs += static_cast<std::size_t>(d.kind->link_inputs);
+      for (std::size_t i = 0; i < d.texts.size(); ++i)
+        if (d.kind->params[i].type == DeviceParam::Type::Wheel &&
+            std::find(wheel_names.begin(), wheel_names.end(), d.texts[i]) == wheel_names.end())
+          fail(d.source, fmt::format("<{}> '{}' names unknown wheel '{}'{}", d.kind->element, d.name, d.texts[i],
+                                     did_you_mean(diagnostics, d.texts[i], wheel_names)));
+      for (std::size_t i = 0; i < d.wires.size(); ++i) {
+        const int index = d.wires[i];
+        switch (d.kind->wires[i].kind) {
+          case WireKind::AdcChannel:
+            use(channel_use, "ADC channel", index, d.source, d.name);
+            // ADC channel n is pin A<n> (54 + n): one pin, whichever way it is named.
+            if (index >= 0) use(pin_use, "pin", 54 + index, d.source, d.name);
+            break;
+          case WireKind::DevicePin:
+          case WireKind::McuPin:
+            use(pin_use, "pin", index, d.source, d.name);
+            break;
+          case WireKind::UartPort:
+            use(port_use, "UART port", index, d.source, d.name);
+            break;
+          case WireKind::I2cAddress:
+            use(address_use, "I2C address", index, d.source, d.name);
+            break;
+        }
+      }
     }
     const auto own = [&](const SourceRef& at, const std::string& actuator) {
       const auto [it, fresh] = actuator_owner.emplace(actuator, "mcu '" + mcu.name + "'");
@@ -252,10 +267,10 @@ void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics) {
       use(pin_use, "pin", s.pin, s.source, "servo " + s.servo);
     }
     for (const auto& u : mcu.uarts) use(port_use, "UART port", u.port, u.source, "a <uart>");
-    constexpr std::size_t kMaxInputs = 32;  // SEAR_LINK_MAX_INPUTS: sensors the link carries per MCU
-    if (mcu.rangers.size() + mcu.bumps.size() > kMaxInputs)
-      fail(mcu.source, fmt::format("mcu '{}' has {} sensors; an MCU takes at most {}", mcu.name,
-                                   mcu.rangers.size() + mcu.bumps.size(), kMaxInputs));
+    constexpr std::size_t kMaxInputs = 32;  // SEAR_LINK_MAX_INPUTS: device models the link carries per MCU
+    if (inputs > kMaxInputs)
+      fail(mcu.source, fmt::format("mcu '{}' has {} sensors served in its process; an MCU takes at most {}", mcu.name,
+                                   inputs, kMaxInputs));
   }
 }
 

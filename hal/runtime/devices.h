@@ -1,0 +1,23 @@
+/* The devices whose models run in the firmware's process (DESIGN.md, "Where device models run"):
+ * each wired input gets its model's state here, takes the simulator's samples of physical truth,
+ * sees the pins the firmware drives to it, and puts its own levels and edges on pins at their
+ * sub-quantum times. One entry per input kind in devices.c's table. */
+#ifndef SEAR_HAL_RUNTIME_DEVICES_H
+#define SEAR_HAL_RUNTIME_DEVICES_H
+
+#include <stdint.h>
+
+#include "mcu_state.h"
+
+/* Sets up every input the simulator wired, from the link; at start-up. */
+void mcu_devices_init(void);
+/* A sample of truth for input s->input, now due. */
+void mcu_devices_sample(const struct sear_link_sample *s);
+/* The firmware drove `pin` to `level` (an output's new level) at t_ns. */
+void mcu_devices_pin_written(uint8_t pin, uint8_t level, int64_t t_ns);
+/* The earliest time a device has an edge or update of its own to make, MCU_TIME_NEVER if none. */
+int64_t mcu_devices_next_event(void);
+/* Makes every device event due by now_ns, in time order. */
+void mcu_devices_run_due(int64_t now_ns);
+
+#endif
