@@ -55,6 +55,15 @@ enum sear_input_kind {
   SEAR_INPUT_GP2D12 = 1, /* pins[0] ADC channel; param[0] noise sd (V); value[0] distance (m, inf: none) */
   SEAR_INPUT_GP2D15 = 2, /* pins[0] output pin; param[0] switch distance, [1] hysteresis (m); value[0] distance */
   SEAR_INPUT_SWITCH = 3, /* pins[0] pin; value[0] 1 closed (to ground) or 0 open */
+  /* HC-SR04: pins[0] TRIG (the firmware drives it), pins[1] ECHO; value[0] distance (m, inf: none),
+   * the latest measured, held until the next sample */
+  SEAR_INPUT_HCSR04 = 4,
+  /* MaxBotix LV-EZ analog and pulse-width outputs: pins[0] ADC channel, pins[1] PW pin (either
+   * SEAR_LINK_NO_PIN); one sample per reading at its cycle's start, value[0] the reading in inches */
+  SEAR_INPUT_MAXBOTIX = 5,
+  /* Quadrature encoder: pins[0] A, pins[1] B; param[0] cycles per revolution; one sample per
+   * quantum: value[0] shaft angle (rad, never wrapped), value[1] its rate (rad/s) */
+  SEAR_INPUT_ENCODER = 6,
   SEAR_INPUT_KIND_END
 };
 

@@ -8,6 +8,8 @@ packages=(
   zlib1g-dev                 # assimp's CMake targets link libz.so, which libassimp-dev does not pull in
   libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
+  libembree-dev              # ray casting against the static world (sensors)
+  gpsd gpsd-clients          # the NMEA tests check the GPS talker against gpsd
   clang libclang-rt-14-dev   # libFuzzer for the project-file fuzz target
   gcc-avr avr-libc binutils-avr  # the ATmega2560 build of the HAL and the firmware examples
 )

@@ -7,12 +7,20 @@
 #include "devices/sharp_gp2d12.h"
 #include "pins.h"
 
+#include <hal/gpio.h>
+
 struct device_ops {
   void (*init)(struct mcu_device *d, const struct sear_link_input *in);
   void (*sample)(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s);
   void (*pin_written)(struct mcu_device *d, const struct sear_link_input *in, uint8_t pin, uint8_t level, int64_t t_ns);
   int64_t (*next_event)(const struct mcu_device *d);
   void (*run_event)(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns);
+  /* A bus device: which pins[] slot holds its chip-select pin (SPI) or its address (I2C). */
+  int spi_cs_slot;
+  uint8_t (*spi_transfer)(struct mcu_device *d, uint8_t mosi, uint32_t sck_hz, int64_t t_ns);
+  int i2c_address_slot;
+  int (*i2c_write)(struct mcu_device *d, const uint8_t *data, uint8_t length, int64_t t_ns);
+  int (*i2c_read)(struct mcu_device *d, uint8_t *data, uint8_t length, int64_t t_ns);
 };
 
 static void gp2d12_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
@@ -34,10 +42,94 @@ static void switch_take(struct mcu_device *d, const struct sear_link_input *in, 
   mcu_set_driven((uint8_t)in->pins[0], s->value[0] != 0.0 ? 0 : MCU_FLOATING);
 }
 
+/* HC-SR04: the firmware's TRIG pulses start measurements; ECHO edges follow at their own times. */
+static void hcsr04_start(struct mcu_device *d, const struct sear_link_input *in) { hcsr04_init(&d->u.hcsr04, in->seed); }
+
+static void hcsr04_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
+  (void)in;
+  hcsr04_set_distance(&d->u.hcsr04, s->value[0], s->time_ns);
+}
+
+static void hcsr04_trig(struct mcu_device *d, const struct sear_link_input *in, uint8_t pin, uint8_t level,
+                        int64_t t_ns) {
+  (void)in;
+  (void)pin;
+  hcsr04_trigger(&d->u.hcsr04, level, t_ns);
+}
+
+static int64_t hcsr04_next(const struct mcu_device *d) { return hcsr04_next_edge_ns(&d->u.hcsr04); }
+
+static void hcsr04_edge(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns) {
+  (void)now_ns;
+  mcu_set_driven((uint8_t)in->pins[1], (uint8_t)hcsr04_take_edge(&d->u.hcsr04));
+}
+
+/* MaxBotix LV-EZ: the simulator decides each reading (the serial output it hosts gives the same
+ * one); here its analog voltage and pulse width are played out. */
+static void maxbotix_start(struct mcu_device *d, const struct sear_link_input *in) {
+  maxbotix_lv_ez_init(&d->u.maxbotix);
+  if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], 0);
+}
+
+static void maxbotix_update_analog(struct mcu_device *d, const struct sear_link_input *in, int64_t t_ns) {
+  if (in->pins[0] < SEAR_LINK_ADC_CHANNELS)
+    sear_mcu.analog_v[in->pins[0]] = maxbotix_lv_ez_analog_v(&d->u.maxbotix, t_ns, sear_mcu.link->avcc_v);
+}
+
+static void maxbotix_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
+  maxbotix_lv_ez_take_reading(&d->u.maxbotix, (int)s->value[0], s->time_ns);
+  maxbotix_update_analog(d, in, s->time_ns);
+}
+
+/* The analog output moves at the end of each cycle; the PW pin at its edges: both are events. */
+static int64_t maxbotix_next(const struct mcu_device *d) {
+  const int64_t edge = maxbotix_lv_ez_next_edge_ns(&d->u.maxbotix);
+  const int64_t ramp = d->u.maxbotix.an_ramp_end_ns > d->analog_shown_ns ? d->u.maxbotix.an_ramp_end_ns : MCU_TIME_NEVER;
+  return edge < ramp ? edge : ramp;
+}
+
+static void maxbotix_event(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns) {
+  if (maxbotix_lv_ez_next_edge_ns(&d->u.maxbotix) <= now_ns) {
+    const int level = maxbotix_lv_ez_take_edge(&d->u.maxbotix);
+    if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)level);
+  } else {
+    d->analog_shown_ns = now_ns;
+    maxbotix_update_analog(d, in, now_ns);
+  }
+}
+
+/* Quadrature encoder: edges at the exact times the shaft crosses them, from each quantum's motion. */
+static void encoder_start(struct mcu_device *d, const struct sear_link_input *in) {
+  encoder_init(&d->u.encoder, (uint32_t)in->param[0], 0.0);
+  const int levels = encoder_levels(&d->u.encoder);
+  mcu_set_driven((uint8_t)in->pins[0], (uint8_t)(levels & 1));
+  mcu_set_driven((uint8_t)in->pins[1], (uint8_t)((levels >> 1) & 1));
+}
+
+static void encoder_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
+  (void)in;
+  encoder_set_motion(&d->u.encoder, s->value[0], s->value[1], s->time_ns);
+}
+
+static int64_t encoder_next(const struct mcu_device *d) { return encoder_next_edge_ns(&d->u.encoder); }
+
+static void encoder_edge(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns) {
+  (void)now_ns;
+  int channel = 0, level = 0;
+  encoder_take_edge(&d->u.encoder, &channel, &level);
+  mcu_set_driven((uint8_t)in->pins[channel ? 1 : 0], (uint8_t)level);
+}
+
 static const struct device_ops kinds[SEAR_INPUT_KIND_END] = {
     [SEAR_INPUT_GP2D12] = {.sample = gp2d12_take},
     [SEAR_INPUT_GP2D15] = {.init = gp2d15_start, .sample = gp2d15_take},
     [SEAR_INPUT_SWITCH] = {.sample = switch_take},
+    [SEAR_INPUT_HCSR04] = {.init = hcsr04_start, .sample = hcsr04_take, .pin_written = hcsr04_trig,
+                           .next_event = hcsr04_next, .run_event = hcsr04_edge},
+    [SEAR_INPUT_MAXBOTIX] = {.init = maxbotix_start, .sample = maxbotix_take, .next_event = maxbotix_next,
+                             .run_event = maxbotix_event},
+    [SEAR_INPUT_ENCODER] = {.init = encoder_start, .sample = encoder_take, .next_event = encoder_next,
+                            .run_event = encoder_edge},
 };
 
 static uint32_t input_count(void) {
@@ -98,4 +190,34 @@ void mcu_devices_run_due(int64_t now_ns) {
     if (t > now_ns) return;
     ops_of(which)->run_event(&sear_mcu.devices[which], &sear_mcu.link->inputs[which], t);
   }
+}
+
+int mcu_devices_spi_transfer(uint8_t mosi, uint32_t sck_hz, int64_t t_ns) {
+  int miso = -1;
+  for (uint32_t i = 0; i < input_count(); ++i) {
+    const struct device_ops *ops = ops_of(i);
+    if (!ops->spi_transfer) continue;
+    const uint32_t cs = sear_mcu.link->inputs[i].pins[ops->spi_cs_slot];
+    if (cs >= SEAR_LINK_PINS || sear_mcu.mode[cs] != OUTPUT || sear_mcu.latch[cs] != LOW) continue;
+    /* Two selected devices drive MISO against each other: the bus reads their wired AND. */
+    const uint8_t out = ops->spi_transfer(&sear_mcu.devices[i], mosi, sck_hz, t_ns);
+    miso = miso < 0 ? out : (miso & out);
+  }
+  return miso;
+}
+
+static int i2c_device(uint8_t address) {
+  for (uint32_t i = 0; i < input_count(); ++i)
+    if (ops_of(i)->i2c_write && sear_mcu.link->inputs[i].pins[ops_of(i)->i2c_address_slot] == address) return (int)i;
+  return -1;
+}
+
+int mcu_devices_i2c_write(uint8_t address, const uint8_t *data, uint8_t length, int64_t t_ns) {
+  const int i = i2c_device(address);
+  return i < 0 ? -1 : ops_of((uint32_t)i)->i2c_write(&sear_mcu.devices[i], data, length, t_ns);
+}
+
+int mcu_devices_i2c_read(uint8_t address, uint8_t *data, uint8_t length, int64_t t_ns) {
+  const int i = i2c_device(address);
+  return i < 0 ? -1 : ops_of((uint32_t)i)->i2c_read(&sear_mcu.devices[i], data, length, t_ns);
 }

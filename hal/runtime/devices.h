@@ -20,4 +20,12 @@ int64_t mcu_devices_next_event(void);
 /* Makes every device event due by now_ns, in time order. */
 void mcu_devices_run_due(int64_t now_ns);
 
+/* SPI: the byte the selected device (its chip-select pin an output driven LOW) shifts out while
+ * `mosi` goes in, at sck_hz; -1 when no device is selected (MISO then idles high). */
+int mcu_devices_spi_transfer(uint8_t mosi, uint32_t sck_hz, int64_t t_ns);
+/* I2C: a write or read transaction with the device at `address`; 0 when it acknowledged, -1 when
+ * no device answers to that address. */
+int mcu_devices_i2c_write(uint8_t address, const uint8_t *data, uint8_t length, int64_t t_ns);
+int mcu_devices_i2c_read(uint8_t address, uint8_t *data, uint8_t length, int64_t t_ns);
+
 #endif

@@ -1,5 +1,6 @@
-/* The I2C master. No I2C device is wired in SEAR yet, so every address goes unacknowledged after
- * its start condition and address byte have taken their time on the bus. */
+/* The I2C master: each call is one transaction with the device at its address, which sees it at
+ * the moment of the start condition; an address nobody answers is not acknowledged. Each takes
+ * its bus time: start, 9 clocks per byte (8 bits and the acknowledge), stop. */
 #include <hal/i2c.h>
 
 #include "mcu.h"
@@ -10,35 +11,44 @@ void i2c_begin(uint32_t clock_hz) {
   sear_mcu.i2c_clock_hz = clock_hz;
 }
 
-/* Start, 7-bit address and R/W, no acknowledge, stop: about 11 bit times. */
-static int8_t address_phase(int64_t now, uint8_t address, const char *call) {
+static void check(uint8_t address, const char *call) {
   if (!sear_mcu.i2c_clock_hz) mcu_fatal("%s: call i2c_begin() first", call);
   if (address > 127) mcu_fatal("%s(0x%02x): I2C addresses are 7 bits", call, address);
-  mcu_advance_to(now + (int64_t)(11ull * 1000000000ull / sear_mcu.i2c_clock_hz));
-  return I2C_NACK;
+}
+
+/* Start and stop, an address byte and `bytes` data bytes, each with its acknowledge. A missing
+ * acknowledge ends the transaction after the address byte. */
+static int8_t finish(int64_t now, int answered, unsigned bytes) {
+  const unsigned clocks = 2 + 9 * (1 + (answered ? bytes : 0));
+  mcu_advance_to(now + (int64_t)(clocks * 1000000000ull / sear_mcu.i2c_clock_hz));
+  return answered ? I2C_OK : I2C_NACK;
 }
 
 int8_t i2c_write(uint8_t address, const uint8_t *data, uint8_t length) {
-  (void)data;
-  (void)length;
-  return address_phase(mcu_enter(SEAR_CALL_i2c_write), address, "i2c_write");
+  const int64_t now = mcu_enter(SEAR_CALL_i2c_write);
+  check(address, "i2c_write");
+  return finish(now, mcu_devices_i2c_write(address, data, length, now) == 0, length);
 }
 
 int8_t i2c_read(uint8_t address, uint8_t *data, uint8_t length) {
-  (void)data;
-  (void)length;
-  return address_phase(mcu_enter(SEAR_CALL_i2c_read), address, "i2c_read");
+  const int64_t now = mcu_enter(SEAR_CALL_i2c_read);
+  check(address, "i2c_read");
+  return finish(now, mcu_devices_i2c_read(address, data, length, now) == 0, length);
 }
 
 int8_t i2c_write_reg(uint8_t address, uint8_t reg, uint8_t value) {
-  (void)reg;
-  (void)value;
-  return address_phase(mcu_enter(SEAR_CALL_i2c_write_reg), address, "i2c_write_reg");
+  const int64_t now = mcu_enter(SEAR_CALL_i2c_write_reg);
+  check(address, "i2c_write_reg");
+  const uint8_t bytes[2] = {reg, value};
+  return finish(now, mcu_devices_i2c_write(address, bytes, 2, now) == 0, 2);
 }
 
+/* The register pointer is written, then a repeated start reads from it: two transactions' worth
+ * of address bytes on the bus, one stop. */
 int8_t i2c_read_regs(uint8_t address, uint8_t first_reg, uint8_t *data, uint8_t length) {
-  (void)first_reg;
-  (void)data;
-  (void)length;
-  return address_phase(mcu_enter(SEAR_CALL_i2c_read_regs), address, "i2c_read_regs");
+  const int64_t now = mcu_enter(SEAR_CALL_i2c_read_regs);
+  check(address, "i2c_read_regs");
+  const int answered = mcu_devices_i2c_write(address, &first_reg, 1, now) == 0 &&
+                       mcu_devices_i2c_read(address, data, length, now) == 0;
+  return finish(now, answered, answered ? 1u + 1u + length : 0u);
 }

@@ -7,6 +7,9 @@
 #include <hal/uart.h>
 #include <stdint.h>
 
+#include "devices/hcsr04.h"
+#include "devices/maxbotix_lv_ez.h"
+#include "devices/quadrature_encoder.h"
 #include "devices/sharp_gp2d15.h"
 #include "lockstep_link.h"
 
@@ -19,7 +22,11 @@
 struct mcu_device {
   union {
     struct gp2d15 gp2d15;
+    struct hcsr04 hcsr04;
+    struct maxbotix_lv_ez maxbotix;
+    struct quadrature_encoder encoder;
   } u;
+  int64_t analog_shown_ns; /* an analog output's last update */
 };
 
 struct mcu_arrival {

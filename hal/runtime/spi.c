@@ -1,5 +1,6 @@
-/* The SPI master. No SPI device is wired in SEAR yet, so MISO idles high and every transfer
- * reads 0xFF, as on a bench board with nothing selected; a transfer takes its 8 clock periods. */
+/* The SPI master: each transfer exchanges a byte with the device whose chip-select pin the
+ * firmware holds LOW, and takes its 8 clock periods. With none selected MISO idles high and the
+ * transfer reads 0xFF, as on a bench board. */
 #include <hal/spi.h>
 
 #include "mcu.h"
@@ -15,8 +16,8 @@ void spi_begin(uint8_t mode, uint32_t clock_hz) {
 
 uint8_t spi_transfer(uint8_t out) {
   const int64_t now = mcu_enter(SEAR_CALL_spi_transfer);
-  (void)out;
   if (!sear_mcu.spi_clock_hz) mcu_fatal("spi_transfer: call spi_begin() first");
+  const int miso = mcu_devices_spi_transfer(out, sear_mcu.spi_clock_hz, now);
   mcu_advance_to(now + (int64_t)(8ull * 1000000000ull / sear_mcu.spi_clock_hz));
-  return 0xFF;
+  return miso < 0 ? 0xFF : (uint8_t)miso;
 }

@@ -44,9 +44,10 @@ class SampleSink {
 // What a device's factory gets: the MCU it is wired to and the link inputs it may claim.
 class DeviceHost {
  public:
-  DeviceHost(const McuDesc& mcu, std::uint64_t run_seed, std::vector<sear_link_input>& inputs)
-      : mcu_(mcu), run_seed_(run_seed), inputs_(inputs) {}
+  DeviceHost(const McuDesc& mcu, const WorldDesc& world, std::uint64_t run_seed, std::vector<sear_link_input>& inputs)
+      : mcu_(mcu), world_(world), run_seed_(run_seed), inputs_(inputs) {}
   const McuDesc& mcu() const { return mcu_; }
+  const WorldDesc& world() const { return world_; }  // its GPS origin and magnetic field
   // Claims an input of the link for the device's model in the firmware's process; its noise seed
   // is derived from the run's seed and the input's place. Returns its index.
   std::uint32_t add_input(sear_link_input input);
@@ -56,6 +57,7 @@ class DeviceHost {
 
  private:
   const McuDesc& mcu_;
+  const WorldDesc& world_;
   std::uint64_t run_seed_;
   std::vector<sear_link_input>& inputs_;
   std::size_t device_ = 0;  // the device being built: its place among the MCU's devices
@@ -71,7 +73,8 @@ class SimDevice {
   virtual void sample(const SenseContext& context, SampleSink& sink) = 0;
   // The device on a serial line, when it is one (its port is its kind's UartPort wire).
   virtual UartDevice* uart() { return nullptr; }
-  // The firmware drove one of the device's McuPin wires to `level` at t_ns.
+  // The firmware drove one of the device's McuPin wires to `level` (0 or 1) at t_ns, or let go of
+  // it (-1: the pin became an input).
   virtual void pin_written(int pin, int level, std::int64_t t_ns) {
     (void)pin;
     (void)level;

@@ -60,6 +60,7 @@ PhysicsWorld::PhysicsWorld(const WorldDesc& desc, std::uint64_t seed)
 }
 
 PhysicsWorld::~PhysicsWorld() {
+  ray_scene_.reset();  // it refers to the geoms destroyed below
   dJointGroupDestroy(contacts_);
   dSpaceDestroy(dynamic_space_);
   dSpaceDestroy(static_space_);

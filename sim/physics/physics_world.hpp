@@ -14,6 +14,8 @@
 
 namespace sear {
 
+class RayScene;  // sensors/ray_scene.hpp
+
 // What a geom is: decides its contact friction and whether touching it counts as a collision.
 // A wheel has two geoms: its tyre (Wheel), a cylinder that meets obstacles, other robots and
 // rays, and its tread (Tread), a sphere of the same radius that meets only the terrain. Rolling
@@ -70,6 +72,16 @@ class PhysicsWorld {
   // made of flat triangles), 0 for a flat plane, +inf for a mesh. A short ray wholly above it
   // cannot hit the terrain, which spares ODE's ray-heightfield test walking the cells.
   double terrain_ceiling(const double box[6]) const;
+  // The heightmap's samples as set_terrain_samples() kept them (row-major, row 0 the north edge),
+  // empty for any other terrain; what the ray scene triangulates as ODE's heightfield does.
+  const std::vector<double>& terrain_samples() const { return terrain_heights_m_; }
+  int terrain_columns() const { return terrain_columns_; }
+  int terrain_rows() const { return terrain_rows_; }
+  const Eigen::Vector2d& terrain_size_m() const { return terrain_size_m_; }
+
+  // The static space as a ray-tracing BVH, made by RayScene::of() on first use and kept here so
+  // that every sensor of this world shares one; this class only holds it.
+  std::shared_ptr<const RayScene>& ray_scene_slot() const { return ray_scene_; }
 
   void step();
   const std::vector<Touch>& touches() const { return touches_; }  // during the last step
@@ -98,6 +110,7 @@ class PhysicsWorld {
   std::deque<TriangleMesh> meshes_;
   std::vector<Touch> touches_;
   std::size_t contact_count_ = 0;
+  mutable std::shared_ptr<const RayScene> ray_scene_;
 };
 
 }  // namespace sear

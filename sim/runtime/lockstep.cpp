@@ -9,7 +9,7 @@ Lockstep::Lockstep(Simulation& sim, const ProjectDesc& project, const LockstepOp
       const std::string id = project.robots[r].name + "." + mcu.name;
       // Each MCU's noise is its own, and stays the same when other robots are added.
       const std::uint64_t seed = project.run.seed * 1000003u + bridges_.size();
-      bridges_.push_back(std::make_unique<McuBridge>(mcu, id, sim.robot(r), seed,
+      bridges_.push_back(std::make_unique<McuBridge>(mcu, project.world, id, sim.robot(r), seed,
                                                      options.out_dir + "/" + id + ".host.log", options.mcu));
       running_.push_back(true);
       robot_of_.push_back(r);

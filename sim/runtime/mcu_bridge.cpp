@@ -15,13 +15,27 @@ std::int64_t call_cost_ns(const McuDesc& d) { return std::llround(d.hal_call_cyc
 
 }  // namespace
 
-McuBridge::McuBridge(const McuDesc& desc, std::string id, Vehicle& vehicle, std::uint64_t seed,
+McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id, Vehicle& vehicle, std::uint64_t seed,
                      const std::string& host_log, const McuRunOptions& options)
     : desc_(desc), id_(std::move(id)), vehicle_(vehicle) {
-  DeviceHost host(desc_, seed, inputs_);
+  DeviceHost host(desc_, world, seed, inputs_);
   for (std::size_t i = 0; i < desc_.devices.size(); ++i) {
     host.set_device(i);
     devices_.push_back(desc_.devices[i].kind->make(desc_.devices[i], host));
+  }
+  pin_listener_.fill(-1);
+  for (std::size_t i = 0; i < devices_.size(); ++i) {
+    const DeviceDesc& d = desc_.devices[i];
+    for (std::size_t w = 0; w < d.wires.size(); ++w) {
+      if (d.wires[w] < 0) continue;
+      if (d.kind->wires[w].kind == WireKind::McuPin) pin_listener_[static_cast<std::size_t>(d.wires[w])] = static_cast<int>(i);
+      if (d.kind->wires[w].kind == WireKind::UartPort && devices_[i]->uart()) {
+        UartDevice* device = devices_[i]->uart();
+        serial_.push_back({device, static_cast<std::uint8_t>(d.wires[w]), SerialWire(false),
+                           SerialWire(device->inverted()), device->baud()});
+        serial_.back().to_device.set_receiver_baud(device->baud(), 0);
+      }
+    }
   }
   if (inputs_.size() > SEAR_LINK_MAX_INPUTS)  // the loader already said where
     throw std::runtime_error(fmt::format("mcu {}: more than {} inputs", id_, SEAR_LINK_MAX_INPUTS));
@@ -66,11 +80,45 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
       rx.byte = bytes[next].byte;
     }
   }
+  rx_count = exchange_serial(t0, t1, link, rx_count);
   const std::vector<sear_link_sample>& samples = samples_.sorted();
   std::copy(samples.begin(), samples.end(), link.samples);
   link.sample_count = static_cast<std::uint32_t>(samples.size());
   link.rx_count = rx_count;
   process_->start_quantum(t1);
+}
+
+void McuBridge::note_device_baud(SerialLink& s) {
+  if (s.device->baud() == s.device_baud) return;
+  s.device_baud = s.device->baud();
+  s.to_device.set_receiver_baud(s.device_baud, s.device->baud_since_ns());
+}
+
+std::uint32_t McuBridge::exchange_serial(std::int64_t t0, std::int64_t t1, sear_link& link, std::uint32_t rx_count) {
+  constexpr std::size_t kChunk = 4096;  // more than any device sends in a quantum at 2 Mbaud
+  for (SerialLink& s : serial_) {
+    // What the firmware sent up to t0 reaches the device, at the rate it listens at.
+    note_device_baud(s);
+    line_bytes_.clear();
+    s.to_device.receive_until(t0, line_bytes_);
+    for (const serial_byte& b : line_bytes_) s.device->receive(b);
+    // Its answers, no earlier than t0: the firmware's clock is there already.
+    line_bytes_.resize(kChunk);
+    const std::size_t n = s.device->transmit(t0, t1, line_bytes_.data(), kChunk);
+    for (std::size_t i = 0; i < n; ++i) s.to_mcu.send(line_bytes_[i]);
+    note_device_baud(s);  // a reply sent just now may have switched it
+    line_bytes_.clear();
+    s.to_mcu.receive_until(t1, line_bytes_);
+    for (const serial_byte& b : line_bytes_) {
+      if (rx_count == SEAR_LINK_MAX_RX) break;
+      sear_link_rx& rx = link.rx[rx_count++];
+      rx = {};
+      rx.time_ns = b.end_ns;
+      rx.port = s.port;
+      rx.byte = b.value;
+    }
+  }
+  return rx_count;
 }
 
 void McuBridge::drain(std::size_t index, McuListener& listener) {
@@ -80,15 +128,29 @@ void McuBridge::drain(std::size_t index, McuListener& listener) {
     switch (e.kind) {
       case SEAR_EVENT_PIN_MODE:
         pin_output_[e.index] = e.value == 1;  // OUTPUT
+        // An output's level follows as a PIN event; an input lets go of the device's line.
+        if (!pin_output_[e.index] && pin_listener_[e.index] >= 0)
+          devices_[static_cast<std::size_t>(pin_listener_[e.index])]->pin_written(e.index, -1, e.time_ns);
         break;
       case SEAR_EVENT_PIN:
         pin_drive_[e.index] = e.value ? 255 : 0;
+        if (pin_listener_[e.index] >= 0)
+          devices_[static_cast<std::size_t>(pin_listener_[e.index])]->pin_written(e.index, e.value ? 1 : 0, e.time_ns);
         break;
       case SEAR_EVENT_PWM:
         pin_drive_[e.index] = static_cast<int>(e.value);
         break;
       case SEAR_EVENT_SERVO:
         servo_pulse_us_[e.index] = static_cast<int>(e.value);
+        break;
+      case SEAR_EVENT_UART_BEGIN:
+        port_baud_[e.index] = e.value;
+        for (SerialLink& s : serial_)
+          if (s.port == e.index) s.to_mcu.set_receiver_baud(e.value, e.time_ns);
+        break;
+      case SEAR_EVENT_UART_TX:
+        for (SerialLink& s : serial_)
+          if (s.port == e.index) s.to_device.send({e.time_ns, port_baud_[e.index], static_cast<std::uint8_t>(e.value), {}});
         break;
       default:
         break;

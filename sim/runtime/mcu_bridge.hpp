@@ -10,8 +10,10 @@
 #include <vector>
 
 #include "devices/sim_device.hpp"
+#include "devices/uart_device.hpp"
 #include "physics/vehicle.hpp"
 #include "runtime/mcu_process.hpp"
+#include "runtime/serial_wire.hpp"
 #include "scene/description.hpp"
 
 namespace sear {
@@ -33,7 +35,7 @@ struct McuRunOptions {
 class McuBridge {
  public:
   // `desc.firmware_executable` must name the built firmware. `id` is "robot.mcu".
-  McuBridge(const McuDesc& desc, std::string id, Vehicle& vehicle, std::uint64_t seed,
+  McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id, Vehicle& vehicle, std::uint64_t seed,
             const std::string& host_log, const McuRunOptions& options);
 
   const std::string& id() const { return id_; }
@@ -57,6 +59,8 @@ class McuBridge {
 
  private:
   static void setup_link(sear_link& link, const void* self);
+  // Bytes between the UART devices and the firmware's ports for [t0, t1), into the link's rx.
+  std::uint32_t exchange_serial(std::int64_t t0, std::int64_t t1, sear_link& link, std::uint32_t rx_count);
   void drain(std::size_t index, McuListener& listener);
   void command_actuators();
 
@@ -72,6 +76,22 @@ class McuBridge {
   std::array<bool, SEAR_LINK_PINS> pin_output_{};
   std::array<int, SEAR_LINK_PINS> servo_pulse_us_{};
   std::vector<std::size_t> receive_next_;  // per desc_.uarts entry: the next captured byte to send
+
+  // A UART device on one of the MCU's ports, and the line each way: where the two ends disagree
+  // on the rate or the polarity, each reads what a real receiver would.
+  struct SerialLink {
+    UartDevice* device;
+    std::uint8_t port;
+    SerialWire to_device;  // the firmware's TX as the device's receiver reads it
+    SerialWire to_mcu;     // the device's TX as the port's receiver reads it
+    std::uint32_t device_baud;
+  };
+  std::vector<SerialLink> serial_;
+  // Tells the line into the device of a rate the device took up, from the instant it did.
+  static void note_device_baud(SerialLink& s);
+  std::array<std::uint32_t, SEAR_LINK_UARTS> port_baud_{};  // the firmware's rate per port, 0 until begun
+  std::array<int, SEAR_LINK_PINS> pin_listener_{};          // the device told of writes to a pin, or -1
+  std::vector<serial_byte> line_bytes_;                     // scratch, per exchange
 };
 
 }  // namespace sear

@@ -112,6 +112,10 @@ inline const Range kNoiseV = Range::between(0, 1, "0..1 V");
 // The GP2D15's datasheet gives 24 cm typical, 21..27 cm from unit to unit.
 inline const Range kSwitchDistance = Range::between(0.21, 0.27, "0.21..0.27 m");
 inline const Range kHysteresis = Range::between(0, 0.1, "0..0.1 m");
+// Range noise of ultrasonic and laser rangers: up to a metre, which no part comes near.
+inline const Range kRangeNoise = Range::between(0, 1, "0..1 m");
+// From the surface's normal: 90 degrees would be a grazing ray.
+inline const Range kIncidence = Range::above(0, 90, "> 0 and <= 90 degrees");
 inline const Range kBumpWidth = Range::between(0, 2, "0..2 m");
 inline const Range kBumpReach = Range::above(0, 0.2, "> 0 and <= 0.2 m");
 

@@ -1,6 +1,8 @@
-// Range sensing against the one ODE world: a single ray, or the nested-cone bundle SEAR uses for
-// sensors with a beam width (IR rangers, sonar). It reports the true distance; device models decide
-// what the sensor outputs for it. Frames: robot x forward, y left, z up; world x east, y north, z up.
+// Range sensing against the one world: a single ray, the nested-cone bundle SEAR uses for sensors
+// with a beam width (IR rangers, sonar), and a LIDAR's planar fan. The static scenery is asked
+// through its BVH (sensors/ray_scene), the bodies that move through ODE; the nearer hit wins. It
+// reports the true distance; device models decide what the sensor outputs for it.
+// Frames: robot x forward, y left, z up; world x east, y north, z up.
 #pragma once
 
 #include <ode/ode.h>
@@ -12,6 +14,7 @@
 
 #include "physics/physics_world.hpp"
 #include "scene/description.hpp"
+#include "sensors/ray_scene.hpp"
 
 namespace sear {
 
@@ -28,6 +31,10 @@ struct RangeBeam {
   double resolution_rad = 1.0 * kDegToRad;
   double min_range_m = 0;  // closer hits are still reported, flagged below_min
   double max_range_m = 1;
+  // Specular loss (sonar): a ray striking a surface more obliquely than this, the angle between
+  // the ray and the surface normal from either side, sends no echo back, and that ray sees nothing
+  // (the surface still blocks it). 90 degrees: every surface echoes.
+  double max_incidence_rad = 90 * kDegToRad;
 };
 
 struct RangeReading {
@@ -38,7 +45,20 @@ struct RangeReading {
   double distance_m = 0;             // along the ray that hit closest; max_range_m when nothing is hit
   Eigen::Vector3d point_m{0, 0, 0};  // world frame, the closest hit; meaningless without one
   int entity = -1;                   // what was hit (PhysicsWorld::entity_names()), -1 the terrain
+  Eigen::Vector3d normal_m{0, 0, 0};  // world frame, unit, at point_m, facing the sensor; meaningless without a hit
 };
+
+namespace detail {
+// A geom asked through ODE, with its box (ODE's order: min x, max x, min y, max y, min z, max z).
+struct RayCandidate {
+  dGeomID geom;
+  int entity;
+  double aabb[6];
+};
+struct RayDeleter {
+  void operator()(dGeomID ray) const;
+};
+}  // namespace detail
 
 // The rays of one beam and a reusable ODE ray to cast them with. The rays are the beam axis, then
 // cones of half-angle alpha, alpha - delta, alpha - 2 delta, ... while above zero, each carrying
@@ -49,12 +69,16 @@ struct RangeReading {
 // A ray sees every tagged geom in the world's static and dynamic spaces from either side (no
 // backface culling: meshes whose winding is inconsistent still block it), except those of
 // `ignore_entity`, the robot carrying the sensor. A ray that starts inside a box or sphere reports
-// where it leaves it, as ODE does. measure() reuses scratch memory and the world's
-// collision data: call it from the thread that steps the world, one call at a time per sensor.
+// where it leaves it, as ODE does. The rays are cast through the world's RayScene 16 at a time;
+// the ray that decides the reading is re-asked of ODE for the geom it struck, so distances are
+// ODE's to rounding (see RayScene). measure() reuses scratch memory and the world's collision
+// data: call it from the thread that steps the world, one call at a time per sensor.
+class RangeScan;
+
 class RangeSensor {
  public:
   // Throws std::invalid_argument for a half-angle outside [0, 90) degrees, a resolution <= 0,
-  // ranges out of order, or more than kMaxRays rays.
+  // ranges out of order, a max incidence outside (0, 90] degrees, or more than kMaxRays rays.
   explicit RangeSensor(const RangeBeam& beam);
 
   static constexpr std::size_t kMaxRays = 100000;  // a typo in a resolution should not stall a run
@@ -78,15 +102,8 @@ class RangeSensor {
 
  private:
   friend class RangeSensorSet;
-
-  struct Candidate {
-    dGeomID geom;
-    int entity;
-    double aabb[6];  // ODE's order: min x, max x, min y, max y, min z, max z
-  };
-  struct RayDeleter {
-    void operator()(dGeomID ray) const;
-  };
+  friend class RangeScan;
+  using Candidate = detail::RayCandidate;
 
   // Turns the rays into the world for this mount and widens `bounds` (ODE's AABB order) to hold
   // every ray from its origin to its max range; returns the origin.
@@ -95,17 +112,25 @@ class RangeSensor {
   // Every tagged geom of `space` (and the spaces in it) whose box meets `bounds`, but those of
   // `ignore_entity`, appended to `out` in the space's order.
   static void gather(dSpaceID space, const double bounds[6], int ignore_entity, std::vector<Candidate>& out);
-  // The closest hit of the placed rays among `candidates`; with `first_hit_will_do` it stops at
-  // the first hit it finds, which then need not be the closest.
-  RangeReading cast(const Eigen::Vector3d& origin, const std::vector<Candidate>& candidates,
-                    bool first_hit_will_do) const;
+  // The closest hit of the placed rays among `candidates`, nearer than `reading` (a hit already
+  // found, or none with distance_m the max range); with `first_hit_will_do` it stops at the first
+  // hit it finds, which then need not be the closest.
+  RangeReading cast(const Eigen::Vector3d& origin, const std::vector<Candidate>& candidates, bool first_hit_will_do,
+                    RangeReading reading) const;
+  // The nearest static hit over the placed rays, exact (refined), as a reading.
+  RangeReading nearest_static(const RayScene& scene, const Eigen::Vector3d& origin, int ignore_entity) const;
+  // With a max incidence: each ray's own nearest hit, kept only if it echoes.
+  RangeReading nearest_echo(const RayScene& scene, const Eigen::Vector3d& origin,
+                            const std::vector<Candidate>& candidates, int ignore_entity) const;
+  dGeomID ray() const;
 
   RangeBeam beam_;
   std::vector<Eigen::Vector3d> directions_;
   // Created on first use, when a PhysicsWorld exists and so ODE is initialised; in no space.
-  mutable std::unique_ptr<dxGeom, RayDeleter> ray_;
+  mutable std::unique_ptr<dxGeom, detail::RayDeleter> ray_;
   mutable std::vector<Eigen::Vector3d> world_directions_;  // per call, sized once
   mutable std::vector<Candidate> candidates_;              // geoms near the beam, per call
+  mutable std::vector<BvhHit> bvh_hits_;                   // per call, sized once
 };
 
 // Beams on one mount that are asked together whether any of them touches something: a bump
@@ -131,6 +156,49 @@ class RangeSensorSet {
   std::vector<RangeSensor> sensors_;
   mutable std::vector<Eigen::Vector3d> origins_;                // per call, one per sensor
   mutable std::vector<RangeSensor::Candidate> candidates_;      // geoms near any beam, per call
+  mutable std::vector<Eigen::Vector3d> ray_origins_, ray_directions_;  // every sensor's rays, per call
+  mutable std::vector<double> reach_;                                  // their max ranges
+  mutable std::vector<BvhHit> bvh_hits_;
+};
+
+// A LIDAR's fan of rays in the mount's horizontal (x-y) plane. Angles count counter-clockwise seen
+// from above, from the mount's right: 0 along -y, pi/2 straight ahead (+x), pi along +y.
+struct ScanFan {
+  Eigen::Vector3d position_m{0, 0, 0};  // where the rays start, in the mount frame
+  double first_angle_rad = 0;
+  double step_rad = 0.5 * kDegToRad;
+  int count = 361;
+  double max_range_m = 8;
+};
+
+// Casts a fan against the one world: the static scenery through its BVH in packets of 16, the
+// bodies that move through ODE (each only for the rays whose path its box meets). Distances are
+// Embree's float figures, within RayScene::float_slack_m() of ODE's; a moving body's are ODE's.
+// Call it from the thread that steps the world, one call at a time per scan.
+class RangeScan {
+ public:
+  // Throws std::invalid_argument for a count outside [1, 100000], a max range <= 0, or a
+  // non-finite angle.
+  explicit RangeScan(const ScanFan& fan);
+
+  const ScanFan& fan() const { return fan_; }
+  // Unit ray directions in the mount frame.
+  Eigen::Vector3d direction(int i) const;
+
+  // distances_m[0 .. count): the distance to the nearest surface along each ray, INFINITY where
+  // none lies within max range. The mount as in RangeSensor::measure().
+  void scan(const PhysicsWorld& physics, dBodyID mount_body, int ignore_entity, float* distances_m) const;
+  void scan(const PhysicsWorld& physics, const Eigen::Vector3d& mount_position_m,
+            const Eigen::Matrix3d& mount_rotation, int ignore_entity, float* distances_m) const;
+  // The same rays through ODE alone, every geom of both spaces: the old path, for comparison.
+  void scan_ode_only(const PhysicsWorld& physics, const Eigen::Vector3d& mount_position_m,
+                     const Eigen::Matrix3d& mount_rotation, int ignore_entity, float* distances_m) const;
+
+ private:
+  ScanFan fan_;
+  std::vector<float> cos_, sin_;  // per ray: the direction is cos (mount -y) + sin (mount +x)
+  mutable std::unique_ptr<dxGeom, detail::RayDeleter> ray_;
+  mutable std::vector<RangeSensor::Candidate> candidates_;
 };
 
 }  // namespace sear

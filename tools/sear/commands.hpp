@@ -30,6 +30,8 @@ struct ProjectDesc;
 // description. Throws FirmwareBuildError with the compiler's messages.
 void build_project_firmware(ProjectDesc& project, bool quiet);
 int check_command(const std::string& project);
+// Lists the device kinds of the table, with their wiring and parameters.
+int sensors_command();
 // Prints the world-building errors in `text` (one per line), the first hundred and a count, as
 // the loader's; returns how many there were.
 std::size_t print_world_errors(const std::string& path, const std::string& text);

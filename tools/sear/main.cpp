@@ -77,7 +77,11 @@ int main(int argc, char** argv) {
   CLI::App* check_cmd = app.add_subcommand("check", "Validate a project without running it; lists every error found");
   check_cmd->add_option("project", check_project, "Project file, or a folder holding project.xml")->required();
 
+  CLI::App* sensors_cmd =
+      app.add_subcommand("sensors", "List every sensor and device a project's <mcu> can hold, with its wiring and parameters");
+
   CLI11_PARSE(app, argc, argv);
   if (run_cmd->parsed()) return sear::run_command(run);
+  if (sensors_cmd->parsed()) return sear::sensors_command();
   return sear::check_command(check_project);
 }

@@ -1,0 +1,162 @@
+// The line is kept as the sender's frames (a piecewise-constant level); the receiver hunts for
+// start edges on it and samples it at its own bit times.
+#include "runtime/serial_wire.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace sear {
+
+namespace {
+
+constexpr int64_t kNsPerS = 1000000000;
+
+// Offset of `n32` thirty-seconds of a bit at `baud` from the frame's start edge, rounded to the
+// nearest ns. Computed from the start each time so errors never accumulate along a frame.
+int64_t bit32_ns(int64_t n32, uint32_t baud) {
+  return (n32 * kNsPerS + 16 * static_cast<int64_t>(baud)) / (32 * static_cast<int64_t>(baud));
+}
+
+// Start of bit j (0 = start bit, 1..8 = data LSB first, 9 = stop, 10 = end of frame).
+int64_t bit_ns(int j, uint32_t baud) { return bit32_ns(32 * j, baud); }
+
+// Logic level of bit j of an 8N1 frame carrying `value`, before any inversion.
+int logic_bit(int j, uint8_t value) {
+  if (j == 0) return 0;
+  if (j >= 9) return 1;
+  return (value >> (j - 1)) & 1;
+}
+
+// Where the receiver samples, in 32nds of its bit from the start edge. Its 16x sample clock sees
+// the edge at its first low sample ("sample 1"), 0 to 1/16 bit after the edge, on average 1/32;
+// it votes with samples 8, 9 and 10 counted from there, and we read the line at the middle one:
+// 1/32 + 8/16 = 17/32 into each bit. A new start edge is accepted right after the stop bit's
+// last voting sample ("can come right after the last of the bits used for majority voting"):
+// 1/32 + 9/16 = 19/32 into the stop bit, and likewise after a start bit rejected as a spike.
+constexpr int64_t mid_bit32(int j) { return 32 * j + 17; }
+constexpr int64_t kMidStart32 = mid_bit32(0);
+constexpr int64_t kAfterSpike32 = 19;
+constexpr int64_t kStopSample32 = mid_bit32(9);
+constexpr int64_t kHuntAgain32 = 32 * 9 + 19;
+
+}  // namespace
+
+SerialWire::SerialWire(bool inverted) : inverted_(inverted) {}
+
+void SerialWire::send(const serial_byte& byte) {
+  if (byte.baud == 0) return;  // a frame of no duration cannot be on a line
+  const int64_t start = byte.end_ns - serial_frame_ns(byte.baud);
+  frames_.push_back(Frame{start, byte.end_ns, byte.baud, byte.value});
+  last_end_ns_ = std::max(last_end_ns_, byte.end_ns);
+  last_sender_baud_ = byte.baud;
+}
+
+void SerialWire::set_receiver_baud(uint32_t baud, int64_t from_ns) {
+  if (!bauds_.empty() && bauds_.back().from_ns >= from_ns) {
+    // A later change at the same time replaces the earlier; out-of-order ones are clamped so the
+    // list stays sorted (the contract asks for time order).
+    while (!bauds_.empty() && bauds_.back().from_ns >= from_ns) bauds_.pop_back();
+  }
+  bauds_.push_back(BaudChange{from_ns, baud});
+}
+
+uint32_t SerialWire::baud_at(int64_t t_ns) const {
+  uint32_t baud = 0;
+  for (const BaudChange& c : bauds_) {
+    if (c.from_ns > t_ns) break;
+    baud = c.baud;
+  }
+  return baud;
+}
+
+int SerialWire::level_at(int64_t t_ns) const {
+  const int mark = inverted_ ? 0 : 1;
+  // First frame ending after t: frames are in time order and do not overlap.
+  auto it = std::upper_bound(frames_.begin(), frames_.end(), t_ns,
+                             [](int64_t t, const Frame& f) { return t < f.end_ns; });
+  if (it == frames_.end() || it->start_ns > t_ns) return mark;
+  int j = 9;
+  while (j > 0 && it->start_ns + bit_ns(j, it->baud) > t_ns) --j;
+  const int level = logic_bit(j, it->value);
+  return inverted_ ? 1 - level : level;
+}
+
+int64_t SerialWire::next_falling_edge(int64_t from_ns, int64_t limit_ns) const {
+  const int mark = inverted_ ? 0 : 1;
+  auto it = std::upper_bound(frames_.begin(), frames_.end(), from_ns,
+                             [](int64_t t, const Frame& f) { return t < f.end_ns; });
+  for (; it != frames_.end() && it->start_ns < limit_ns; ++it) {
+    // The level before a frame's start is always mark: idle, or the previous frame's stop bit.
+    int before = mark;
+    for (int j = 0; j <= 9; ++j) {
+      const int logic = logic_bit(j, it->value);
+      const int after = inverted_ ? 1 - logic : logic;
+      const int64_t t = it->start_ns + bit_ns(j, it->baud);
+      if (t >= limit_ns) return std::numeric_limits<int64_t>::max();
+      if (t >= from_ns && before == 1 && after == 0) return t;
+      before = after;
+    }
+    // The frame ends in its stop bit (mark) and the line stays at mark: no edge at its end.
+  }
+  return std::numeric_limits<int64_t>::max();
+}
+
+void SerialWire::decode(int64_t known_until_ns) {
+  const int64_t none = std::numeric_limits<int64_t>::max();
+  while (scan_from_ns_ < known_until_ns) {
+    const int64_t t0 = next_falling_edge(scan_from_ns_, known_until_ns);
+    if (t0 == none) {
+      scan_from_ns_ = known_until_ns;  // no edge before the horizon; later ones are found later
+      break;
+    }
+    const uint32_t baud = baud_at(t0);
+    if (baud == 0) {  // port not begun: the edge goes by unseen
+      scan_from_ns_ = t0 + 1;
+      continue;
+    }
+    const int64_t end = t0 + serial_frame_ns(baud);
+
+    // Fast path: a frame that starts exactly here, at the receiver's rate, in normal polarity,
+    // is read as sent (same value, same end).
+    if (!inverted_) {
+      auto it = std::lower_bound(frames_.begin(), frames_.end(), t0,
+                                 [](const Frame& f, int64_t t) { return f.start_ns < t; });
+      if (it != frames_.end() && it->start_ns == t0 && it->baud == baud) {
+        ready_.push_back(serial_byte{end, baud, it->value, {0, 0, 0}});
+        scan_from_ns_ = t0 + bit32_ns(kHuntAgain32, baud);
+        continue;
+      }
+    }
+
+    if (t0 + bit32_ns(kStopSample32, baud) >= known_until_ns) break;  // wait for more line
+    if (level_at(t0 + bit32_ns(kMidStart32, baud)) != 0) {
+      scan_from_ns_ = t0 + bit32_ns(kAfterSpike32, baud);  // a spike, not a start bit
+      continue;
+    }
+    int value = 0;
+    for (int bit = 0; bit < 8; ++bit) value |= level_at(t0 + bit32_ns(mid_bit32(bit + 1), baud)) << bit;
+    if (level_at(t0 + bit32_ns(kStopSample32, baud)) == 0) ++framing_errors_;
+    ready_.push_back(serial_byte{end, baud, static_cast<uint8_t>(value), {0, 0, 0}});
+    scan_from_ns_ = t0 + bit32_ns(kHuntAgain32, baud);
+  }
+  forget_before(scan_from_ns_);
+}
+
+void SerialWire::forget_before(int64_t t_ns) {
+  while (!frames_.empty() && frames_.front().end_ns <= t_ns) frames_.pop_front();
+}
+
+void SerialWire::receive_until(int64_t until_ns, std::vector<serial_byte>& out) {
+  if (last_sender_baud_ != 0) {
+    // A frame ending at or after until_ns may not have been sent yet; it started no earlier than
+    // one frame before until_ns, and no earlier than the last frame we hold ended.
+    const int64_t known = std::max(last_end_ns_, until_ns - serial_frame_ns(last_sender_baud_));
+    decode(known);
+  }
+  while (!ready_.empty() && ready_.front().end_ns < until_ns) {
+    out.push_back(ready_.front());
+    ready_.pop_front();
+  }
+}
+
+}  // namespace sear

@@ -1,0 +1,233 @@
+// The serial line between mismatched UARTs (sim/runtime/serial_wire) against hand-decoded bit
+// patterns of an AVR USART receiver (ATmega2560 datasheet, "Asynchronous Data Reception").
+// Every expected byte below was also reproduced by an independent 16x-oversampling receiver
+// written in Python for this test (not part of the repository); see the report.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "devices/maxbotix_lv_ez.h"
+#include "devices/serial_byte.h"
+#include "runtime/serial_wire.hpp"
+
+namespace {
+
+using sear::SerialWire;
+
+serial_byte byte_at(int64_t end_ns, uint32_t baud, uint8_t value) { return serial_byte{end_ns, baud, value, {0, 0, 0}}; }
+
+// Start of bit j of a frame starting at start_ns: the 8N1 bit grid, rounded as the wire does.
+int64_t bit_time(int64_t start_ns, int j, uint32_t baud) {
+  return start_ns + (j * INT64_C(1000000000) + baud / 2) / baud;
+}
+
+std::vector<serial_byte> receive_all(SerialWire& wire, int64_t until_ns) {
+  std::vector<serial_byte> out;
+  wire.receive_until(until_ns, out);
+  return out;
+}
+
+// Same rate, normal polarity: every byte comes out as sent, same value, same time, whether the
+// bytes are back to back or spaced, and whatever batches they arrive in.
+TEST(SerialWire, MatchingRatesPassBytesThroughExactly) {
+  const uint32_t baud = 9600;
+  const int64_t frame = serial_frame_ns(baud);
+  std::vector<serial_byte> sent;
+  int64_t end = 5000000;
+  for (int i = 0; i < 600; ++i) {
+    // All 256 values, some back to back and some with odd gaps (0..2.9 frames).
+    end += frame + (i % 3 == 0 ? 0 : (i * 7919) % (3 * frame));
+    sent.push_back(byte_at(end, baud, static_cast<uint8_t>(i * 37 + 11)));
+  }
+  SerialWire wire(false);
+  wire.set_receiver_baud(baud, 0);
+  std::vector<serial_byte> got;
+  size_t next = 0;
+  // 1 ms quanta: the sender gives the bytes ending in each quantum, then the receiver reads.
+  for (int64_t q_end = 1000000; q_end <= end + 2000000; q_end += 1000000) {
+    while (next < sent.size() && sent[next].end_ns < q_end) wire.send(sent[next++]);
+    const size_t before = got.size();
+    wire.receive_until(q_end, got);
+    for (size_t i = before; i < got.size(); ++i) ASSERT_LT(got[i].end_ns, q_end);
+  }
+  ASSERT_EQ(got.size(), sent.size());
+  for (size_t i = 0; i < sent.size(); ++i) {
+    EXPECT_EQ(got[i].value, sent[i].value) << i;
+    EXPECT_EQ(got[i].end_ns, sent[i].end_ns) << i;  // exact: same baud, same grid
+    EXPECT_EQ(got[i].baud, baud);
+  }
+  EXPECT_EQ(wire.framing_errors(), 0u);
+}
+
+// '5' (0x35) sent at 9600 and read at 19200. Sender bits, 104.17 us each (T): start 0, data
+// LSB first 1 0 1 0 1 1 0 0, stop 1. The receiver's bits are T/2; it samples 17/32 into each,
+// at (k/2 + 0.27) T from the start edge, i.e. twice per sender bit:
+//   k:            0  1  2  3  4  5  6  7  8 | 9 (stop)
+//   sender bit:   S  S  d0 d0 d1 d1 d2 d2 d3| d3
+//   level:        0  0  1  1  0  0  1  1  0 | 0   -> data 0b01100110 = 0x66, framing error
+// It hunts again from 4.80 T: the line is low (d3), rises at 5 T (d4), falls at 7 T (d6 = 0):
+// a second start edge at 7 T, sampled at 7.27 T (d6 = 0: a start), 7.77 (d6 0), 8.27 (d7 0),
+// 8.77 (d7 0), 9.27 (stop 1) and idle 1 from there: data 0b11111000 = 0xF8, stop 1.
+// Each ends 10 receiver bits (5 T) after its start edge.
+TEST(SerialWire, NineSixHundredReadAtNineteenTwoHundredGivesThePredictedGarbage) {
+  SerialWire wire(false);
+  wire.set_receiver_baud(19200, 0);
+  const int64_t start = 1000000;
+  wire.send(byte_at(start + serial_frame_ns(9600), 9600, '5'));
+  const std::vector<serial_byte> got = receive_all(wire, start + 30 * 104167);
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(got[0].value, 0x66);
+  EXPECT_EQ(got[0].end_ns, start + serial_frame_ns(19200));
+  EXPECT_EQ(got[1].value, 0xF8);
+  EXPECT_EQ(got[1].end_ns, bit_time(start, 7, 9600) + serial_frame_ns(19200));
+  EXPECT_EQ(got[0].baud, 19200u);
+  EXPECT_EQ(wire.framing_errors(), 1u);
+}
+
+// '0' (0x30: data 0 0 0 0 1 1 0 0) sent at 9600, read at 4800. Receiver bits are 2 T; samples
+// at (2k + 1.06) T from the start edge, so it reads every other sender bit:
+//   k:           0   1   2   3   4    5 .. 8 | 9 (stop)
+//   sender bit:  d0  d2  d4  d6  stop idle   | idle
+//   level:       0   0   1   0   1    1      | 1     -> data 0b11111010 = 0xFA, stop fine
+// ending 20 T after the start. And '5' (data 1 0 1 0 1 1 0 0) at 4800: the start edges at 0, 2 T
+// and 4 T are each rejected as spikes (the mid-start samples at 1.06, 3.06, 5.06 T land on d0,
+// d2, d4, all 1); the edge at 7 T (d6) passes (8.06 T is d7 = 0) and everything after is the
+// idle line: 0xFF, ending at 27 T.
+TEST(SerialWire, NineSixHundredReadAtFortyEightHundredGivesThePredictedGarbage) {
+  {
+    SerialWire wire(false);
+    wire.set_receiver_baud(4800, 0);
+    const int64_t start = 1000000;
+    wire.send(byte_at(start + serial_frame_ns(9600), 9600, '0'));
+    const std::vector<serial_byte> got = receive_all(wire, start + 60 * 104167);
+    ASSERT_EQ(got.size(), 1u);
+    EXPECT_EQ(got[0].value, 0xFA);
+    EXPECT_EQ(got[0].end_ns, start + serial_frame_ns(4800));
+    EXPECT_EQ(wire.framing_errors(), 0u);
+  }
+  {
+    SerialWire wire(false);
+    wire.set_receiver_baud(4800, 0);
+    const int64_t start = 1000000;
+    wire.send(byte_at(start + serial_frame_ns(9600), 9600, '5'));
+    const std::vector<serial_byte> got = receive_all(wire, start + 60 * 104167);
+    ASSERT_EQ(got.size(), 1u);
+    EXPECT_EQ(got[0].value, 0xFF);
+    EXPECT_EQ(got[0].end_ns, bit_time(start, 7, 9600) + serial_frame_ns(4800));
+  }
+}
+
+// "R123\r" as a MaxBotix TX sends it: back to back at 9600, RS-232 polarity (idle low, every bit
+// inverted). Line levels by bit position p from the 'R' frame's start (S = inverted start = 1,
+// inverted stop = 0):
+//   'R' 0x52  p0-9:   1 | 1 0 1 1 0 1 0 1 | 0
+//   '1' 0x31  p10-19: 1 | 0 1 1 1 0 0 1 1 | 0
+//   '2' 0x32  p20-29: 1 | 1 0 1 1 0 0 1 1 | 0
+//   '3' 0x33  p30-39: 1 | 0 0 1 1 0 0 1 1 | 0
+//   CR  0x0D  p40-49: 1 | 0 1 0 0 1 1 1 1 | 0      then idle 0
+// A normal receiver at 9600 needs a high-to-low edge: first at p2. Start p2, data p3-p10 =
+// 1 1 0 1 0 1 0 1 -> 0xAB, stop p11 = 0: framing error. Hunting from p11.6: next fall p15;
+// data p16-23 = 0 1 1 0 1 1 0 1 -> 0xB6, stop p24 = 1. Next fall p25; data p26-33 =
+// 0 1 1 0 1 0 0 1 -> 0x96, stop p34 = 1. Next fall p35; data p36-43 = 0 1 1 0 1 0 1 0 -> 0x56
+// 'V', stop p44 = 0: framing error. The line rises at p45 and falls at p49 (the CR's stop):
+// data p50-57 idle 0 -> 0x00, stop p58 = 0: framing error; the line then stays low, so nothing
+// more. Each byte ends 10 bits after its start edge: at p12, p25, p35, p45, p59.
+TEST(SerialWire, InvertedMaxbotixTextReadsAsThePredictedGarbageAndTheInverterRestoresIt) {
+  const uint32_t baud = MAXBOTIX_BAUD;
+  uint8_t text[5];
+  ASSERT_EQ(maxbotix_serial_frame(123, text), 5u);
+  const int64_t start = 2000000;
+  const int64_t frame = serial_frame_ns(baud);
+  std::vector<serial_byte> sent;
+  for (int i = 0; i < 5; ++i) sent.push_back(byte_at(start + (i + 1) * frame, baud, text[i]));
+
+  SerialWire inverted(MAXBOTIX_SERIAL_INVERTED != 0);
+  inverted.set_receiver_baud(baud, 0);
+  for (const serial_byte& b : sent) inverted.send(b);
+  const std::vector<serial_byte> got = receive_all(inverted, start + 80 * 104167);
+  const uint8_t expected[] = {0xAB, 0xB6, 0x96, 0x56, 0x00};
+  // Start edges at p2, p15, p25, p35, p49: bit p % 10 of the frame sent (p / 10)-th.
+  const int start_bits[] = {2, 15, 25, 35, 49};
+  ASSERT_EQ(got.size(), 5u);
+  std::string as_text;
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(got[i].value, expected[i]) << i;
+    const int p = start_bits[i];
+    EXPECT_EQ(got[i].end_ns, bit_time(start + (p / 10) * frame, p % 10, baud) + frame) << i;
+    as_text.push_back(static_cast<char>(got[i].value));
+  }
+  EXPECT_EQ(as_text.find("R1"), std::string::npos);
+  EXPECT_EQ(as_text.find('\r'), std::string::npos);
+  EXPECT_EQ(inverted.framing_errors(), 3u);
+
+  // The wiring's inverter (a MAX232 or a transistor) undoes the polarity: the text comes through.
+  SerialWire through_inverter(false);
+  through_inverter.set_receiver_baud(baud, 0);
+  for (const serial_byte& b : sent) through_inverter.send(b);
+  const std::vector<serial_byte> clean = receive_all(through_inverter, start + 80 * 104167);
+  ASSERT_EQ(clean.size(), 5u);
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(clean[i].value, text[i]);
+    EXPECT_EQ(clean[i].end_ns, sent[i].end_ns);
+  }
+}
+
+// Decoding in 1 ms batches gives exactly what decoding the whole stream at once gives: bytes
+// that straddle a batch wait for the line they need. Also: a port not begun gets nothing, and
+// one begun mid-stream picks up from its next start edge.
+TEST(SerialWire, BatchesDecodeLikeOneStreamAndAPortNotBegunGetsNothing) {
+  const uint32_t baud = 9600;
+  const int64_t frame = serial_frame_ns(baud);
+  std::vector<serial_byte> sent;
+  for (int k = 0; k < 20; ++k) {  // 20 MaxBotix frames, 49 ms apart
+    uint8_t text[5];
+    maxbotix_serial_frame(6 + 12 * k, text);
+    for (int i = 0; i < 5; ++i) sent.push_back(byte_at(3000000 + k * 49000000 + (i + 1) * frame, baud, text[i]));
+  }
+  const int64_t last = sent.back().end_ns + 10 * frame;
+  for (const uint32_t rx_baud : {4800u, 9600u, 19200u, 38400u}) {
+    SerialWire whole(true), batched(true);
+    whole.set_receiver_baud(rx_baud, 0);
+    batched.set_receiver_baud(rx_baud, 0);
+    for (const serial_byte& b : sent) whole.send(b);
+    const std::vector<serial_byte> once = receive_all(whole, last + 1000000);
+    std::vector<serial_byte> in_batches;
+    size_t next = 0;
+    for (int64_t q_end = 1000000; q_end <= last + 1000000; q_end += 1000000) {
+      while (next < sent.size() && sent[next].end_ns < q_end) batched.send(sent[next++]);
+      batched.receive_until(q_end, in_batches);
+    }
+    ASSERT_EQ(once.size(), in_batches.size()) << rx_baud;
+    EXPECT_FALSE(once.empty()) << rx_baud;
+    for (size_t i = 0; i < once.size(); ++i) {
+      EXPECT_EQ(once[i].value, in_batches[i].value) << rx_baud << " " << i;
+      EXPECT_EQ(once[i].end_ns, in_batches[i].end_ns) << rx_baud << " " << i;
+    }
+  }
+
+  SerialWire idle_port(false);
+  for (const serial_byte& b : sent) idle_port.send(b);
+  EXPECT_TRUE(receive_all(idle_port, last + 1000000).empty());  // never begun: baud 0
+
+  // Begun at 9600 in the middle of frame 10's 'R': what is left of that burst may read as
+  // garbage (a receiver starting mid-frame takes a data edge for a start bit), but after the
+  // idle gap before frame 11 every byte is exact.
+  SerialWire late(false);
+  const int64_t begin_ns = sent[50].end_ns - frame / 2;
+  late.set_receiver_baud(0, 0);
+  late.set_receiver_baud(baud, begin_ns);
+  for (const serial_byte& b : sent) late.send(b);
+  const std::vector<serial_byte> got = receive_all(late, last + 1000000);
+  ASSERT_GE(got.size(), 45u);
+  EXPECT_LE(got.size(), 50u);  // at most one byte per start edge in what is left of frame 10
+  EXPECT_GT(got.front().end_ns, begin_ns);
+  for (size_t i = 0; i < 45; ++i) {
+    const serial_byte& g = got[got.size() - 45 + i];
+    EXPECT_EQ(g.value, sent[55 + i].value) << i;
+    EXPECT_EQ(g.end_ns, sent[55 + i].end_ns) << i;
+  }
+}
+
+}  // namespace
