@@ -196,7 +196,8 @@ void BM_ScanOdeOnly(benchmark::State& state) {
 }
 BENCHMARK(BM_ScanOdeOnly)->Args({800, 0})->Args({150, 0})->Args({800, 30})->Args({150, 150})->Unit(benchmark::kMicrosecond);
 
-// The default project's GP2D12: half-angle 2 degrees, 1 degree apart, 1.5 m (sim/devices/sharp_ranger.cpp).
+// The default project's GP2D12 (sim/devices/sharp_ranger.cpp: half-angle 2 degrees, 1 degree
+// apart, 1.5 m) on its left mount; argument 0: through the BVH, 1: through ODE alone.
 void BM_IrCone(benchmark::State& state) {
   const Rover rover;
   sear::RangeBeam beam;
@@ -206,19 +207,42 @@ void BM_IrCone(benchmark::State& state) {
   beam.resolution_rad = 1 * sear::kDegToRad;
   beam.max_range_m = 1.5;
   const sear::RangeSensor ir(beam);
+  const bool ode_only = state.range(0) != 0;
   int k = 0, hits = 0;
   for (auto _ : state) {
-    const sear::RangeReading r =
-        ir.measure(rover.sim.physics(), rover.position, turned(rover.rotation, k++ % 9), rover.sim.robot(0).entity());
-    hits += r.hit;
-    benchmark::DoNotOptimize(r);
+    // Turned and pitched down 10 degrees so that about half the cones meet the ground.
+    const int i = k++;
+    const Eigen::Matrix3d r = turned(rover.rotation, i % 9, (i % 2 ? 10 : 0) * sear::kDegToRad);
+    const int self = rover.sim.robot(0).entity();
+    const sear::RangeReading reading = ode_only ? ir.measure_ode_only(rover.sim.physics(), rover.position, r, self)
+                                                : ir.measure(rover.sim.physics(), rover.position, r, self);
+    hits += reading.hit;
+    benchmark::DoNotOptimize(reading);
   }
   state.counters["rays/s"] = benchmark::Counter(static_cast<double>(ir.directions().size()) *
                                                     static_cast<double>(state.iterations()),
                                                 benchmark::Counter::kIsRate);
   state.counters["hit%"] = 100.0 * hits / static_cast<double>(state.iterations());
 }
-BENCHMARK(BM_IrCone)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_IrCone)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// The lever's rays one at a time through ODE alone (the path before the BVH), beside
+// BM_LeverRayByRay and BM_LeverSet above.
+void BM_LeverOdeOnly(benchmark::State& state) {
+  const Rover rover;
+  std::vector<sear::RangeSensor> rays;
+  for (const auto& beam : lever_beams()) rays.emplace_back(beam);
+  bool closed = false;
+  for (auto _ : state) {
+    closed = false;
+    for (const auto& ray : rays)
+      closed = closed || ray.measure_ode_only(rover.sim.physics(), rover.position, rover.rotation,
+                                              rover.sim.robot(0).entity()).hit;
+    benchmark::DoNotOptimize(closed);
+  }
+  state.SetLabel(closed ? "pressed" : "free");
+}
+BENCHMARK(BM_LeverOdeOnly)->Unit(benchmark::kNanosecond);
 
 // Building the default world's BVH from its static space (done once per world).
 void BM_BuildScene(benchmark::State& state) {

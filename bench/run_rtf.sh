@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Whole-run real-time factor: what a user waits for. Runs `sear run` on
-#   default  the bundled default project (one rover, its MCU running the avoider)
-#   busy     the same beside one busy host process (`sh -c 'while :; do :; done'`, killed afterwards)
-#   two      two rovers, each with its own MCU running the avoider
+#   default  the bundled default project: the reference rover, every sensor kind on one MCU
+#   nolidar  the same without its LMS200 (the firmware then sends the scanner requests nobody answers)
+#   avoider  the default world with the obstacle avoider's rover (assets/projects/avoider_hills.xml)
+#   busy     the avoider beside one busy host process (`sh -c 'while :; do :; done'`, killed afterwards)
+#   two      two avoider rovers, each with its own MCU
 #   eight    eight such rovers
 # and prints, per scenario, the median over RUNS runs of the wall-clock real-time factor of the
 # stepping loop (summary.json's real_time_factor: simulated seconds per wall second, from the first
@@ -26,7 +28,7 @@ fi
 [[ -x ${sear:-} ]] || { echo "run_rtf.sh: no sear binary (give its path)" >&2; exit 2; }
 RUNS=${RUNS:-3}
 DURATION=${DURATION:-20}
-SCENARIOS=${SCENARIOS:-"default busy two eight"}
+SCENARIOS=${SCENARIOS:-"default nolidar avoider busy two eight"}
 LOCK=${LOCK-/tmp/sear-build.lock}
 
 work=$(mktemp -d /tmp/sear-rtf.XXXXXX)
@@ -37,18 +39,18 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# The default project with its relative paths made absolute, so that copies of it can live in $work.
-absolute_default() {
-  sed -e "s#\"\.\./\.\./#\"$ROOT/#g" -e "s#\"\.\./#\"$ROOT/assets/#g" "$ROOT/assets/projects/default.xml"
+# A bundled project with its relative paths made absolute, so that copies of it can live in $work.
+absolute_project() {
+  sed -e "s#\\([\" ]\\)\\.\\./\\.\\./#\\1$ROOT/#g" -e "s#\\([\" ]\\)\\.\\./#\\1$ROOT/assets/#g" "$ROOT/assets/projects/$1.xml"
 }
 
-# The default world with n rovers, each with the default rover's MCU (avoider and sensors), spread
+# The default world with n rovers, each with the avoider rover's MCU (avoider and sensors), spread
 # over open ground clear of the obstacles and of each other.
 multi_robot_project() {
   local n=$1 out=$2
   local poses=("0 0 0" "0 -6 90" "-6 0 180" "6 6 -90" "-7 -7 45" "7 -9 135" "-8 7 -45" "9 1 200")
   ((n <= ${#poses[@]})) || { echo "run_rtf.sh: at most ${#poses[@]} robots" >&2; exit 2; }
-  absolute_default | awk -v n="$n" -v poses="$(IFS=,; echo "${poses[*]}")" '
+  absolute_project avoider_hills | awk -v n="$n" -v poses="$(IFS=,; echo "${poses[*]}")" '
     BEGIN { split(poses, pose, ",") }
     /<robot / { inrobot = 1; robot = "" }
     inrobot { robot = robot $0 "\n"; if ($0 ~ /<\/robot>/) { inrobot = 0
@@ -96,7 +98,9 @@ run_scenario() {
     "$(printf '%.1f ' "${loop_rtfs[@]}")"
 }
 
-absolute_default >"$work/default.xml"
+absolute_project default >"$work/default.xml"
+grep -v "<lms2xx" "$work/default.xml" >"$work/nolidar.xml"
+absolute_project avoider_hills >"$work/avoider.xml"
 multi_robot_project 2 "$work/two.xml"
 multi_robot_project 8 "$work/eight.xml"
 
@@ -104,7 +108,9 @@ echo "sear: $sear; $DURATION s simulated per run; $(nproc) cores; $(date -u '+%F
 printf '%-8s %6s %10s %10s   %s   %s\n' scenario runs "loop RTF" "whole RTF" "load avg (1/5/15 min) at start" "[each run's loop RTF]"
 for s in $SCENARIOS; do
   case $s in
-    default | busy) project="$work/default.xml" ;;
+    default) project="$work/default.xml" ;;
+    nolidar) project="$work/nolidar.xml" ;;
+    avoider | busy) project="$work/avoider.xml" ;;
     two) project="$work/two.xml" ;;
     eight) project="$work/eight.xml" ;;
     *) echo "run_rtf.sh: unknown scenario '$s'" >&2; exit 2 ;;

@@ -64,6 +64,17 @@ enum sear_input_kind {
   /* Quadrature encoder: pins[0] A, pins[1] B; param[0] cycles per revolution; one sample per
    * quantum: value[0] shaft angle (rad, never wrapped), value[1] its rate (rad/s) */
   SEAR_INPUT_ENCODER = 6,
+  /* MPU-6000 on SPI / MPU-6050 on I2C: pins[0] chip select (6000) or I2C address (6050), pins[1]
+   * data-ready INT pin or SEAR_LINK_NO_PIN; param[0] gyro noise density (rad/s/sqrt(Hz)),
+   * param[1] gyro turn-on bias sd (rad/s), param[2] accel noise density (m/s^2/sqrt(Hz)), each
+   * < 0 for the datasheet's; one sample per quantum: value[0..2] specific force (m/s^2),
+   * value[3..5] angular rate (rad/s), in the sensor's axes */
+  SEAR_INPUT_MPU6000 = 7,
+  SEAR_INPUT_MPU6050 = 8,
+  /* HMC5883L / QMC5883L on I2C: pins[0] I2C address, pins[1] the HMC's DRDY pin or
+   * SEAR_LINK_NO_PIN; one sample per quantum: value[0..2] the field in the sensor's axes (T) */
+  SEAR_INPUT_HMC5883L = 9,
+  SEAR_INPUT_QMC5883L = 10,
   SEAR_INPUT_KIND_END
 };
 

@@ -1,5 +1,6 @@
-// The bundled obstacle avoider, unmodified, drives the default world: a minute without touching a
-// wall, and the same bytes out from two runs.
+// The bundled obstacle avoider, unmodified, drives the default world (as
+// assets/projects/avoider_hills.xml has it): a minute without touching a wall, and the same bytes
+// out from two runs.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -11,7 +12,8 @@ namespace {
 
 SearRun run_default(const TempDir& dir, const std::string& name) {
   const auto out = dir.path() / name;
-  const std::string cmd = std::string(SEAR_BINARY) + " run --quiet --duration 60 -o " + out.string() + " 2>" +
+  const std::string cmd = std::string(SEAR_BINARY) + " run " SEAR_ASSET_DIR "/projects/avoider_hills.xml --quiet --duration 60 -o " +
+                          out.string() + " 2>" +
                           (dir.path() / (name + ".err")).string();
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, "", read_file(dir.path() / (name + ".err")), out};

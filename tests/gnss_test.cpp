@@ -46,6 +46,16 @@ sear::GnssTruthFeed rover_feed() {
 // UTC at power-on for every test: 2026-11-24 07:00:00.
 const std::int64_t kUtcStart = nmea_unix_s(2026, 11, 24, 7, 0, 0);
 
+// A talker's config as every test powers it up: at kUtcStart, with the time to first fix it needs.
+template <class Config>
+Config talker_config(void (*defaults)(Config*), double ttff_s) {
+  Config c;
+  defaults(&c);
+  c.utc_start_s = kUtcStart;
+  c.error.ttff_s = ttff_s;
+  return c;
+}
+
 template <class Dev, class Transmit>
 std::vector<serial_byte> drain(Dev& d, Transmit transmit, std::int64_t from, std::int64_t to, std::int64_t step) {
   std::vector<serial_byte> out;
@@ -149,10 +159,7 @@ TEST(GnssNmea, PowerUpBannerNoFixFormsAndFixedCycleLayout) {
   }
 
   auto feed = rover_feed();
-  ublox_neo6m_config c;
-  ublox_neo6m_defaults(&c);
-  c.utc_start_s = kUtcStart;
-  c.error.ttff_s = 5.0;
+  ublox_neo6m_config c = talker_config(ublox_neo6m_defaults, 5.0);
   ublox_neo6m d;
   ublox_neo6m_init(&d, &c, feed.source(), 0);
   const auto lines = sentences(text_of(ublox_run(d, 0, 15 * kSecond)));
@@ -223,10 +230,7 @@ TEST(GnssNmea, PowerUpBannerNoFixFormsAndFixedCycleLayout) {
 // bytes a second) and never cuts one. The byte stream does not depend on how the caller slices time.
 TEST(GnssNmea, TimingAtTheBaudRateAndOverflow) {
   auto feed = rover_feed();
-  ublox_neo6m_config c;
-  ublox_neo6m_defaults(&c);
-  c.utc_start_s = kUtcStart;
-  c.error.ttff_s = 0.0;
+  ublox_neo6m_config c = talker_config(ublox_neo6m_defaults, 0.0);
   ublox_neo6m a, b;
   ublox_neo6m_init(&a, &c, feed.source(), 0);
   ublox_neo6m_init(&b, &c, feed.source(), 0);
@@ -289,10 +293,7 @@ TEST(GnssNmea, TimingAtTheBaudRateAndOverflow) {
 // does not offer, a bad checksum ignored; PUBX,40; PMTK ignored.
 TEST(GnssUbx, ConfigurationAndAcknowledgements) {
   auto feed = rover_feed();
-  ublox_neo6m_config c;
-  ublox_neo6m_defaults(&c);
-  c.utc_start_s = kUtcStart;
-  c.error.ttff_s = 0.0;
+  ublox_neo6m_config c = talker_config(ublox_neo6m_defaults, 0.0);
   ublox_neo6m d;
   ublox_neo6m_init(&d, &c, feed.source(), 0);
   std::string out = text_of(ublox_run(d, 0, 1500000000));
@@ -377,10 +378,7 @@ TEST(GnssUbx, ConfigurationAndAcknowledgements) {
 // ignored, the MTK number formats.
 TEST(GnssMtk, PmtkCommandsAndFlavour) {
   auto feed = rover_feed();
-  mtk3339_config c;
-  mtk3339_defaults(&c);
-  c.utc_start_s = kUtcStart;
-  c.error.ttff_s = 3.0;
+  mtk3339_config c = talker_config(mtk3339_defaults, 3.0);
   mtk3339 d;
   mtk3339_init(&d, &c, feed.source(), 0);
   auto run = [&d](std::int64_t a, std::int64_t b) { return text_of(drain(d, mtk3339_transmit, a, b, 1000000)); };
@@ -628,10 +626,7 @@ TEST(GnssTruth, WgsGeodesyAndVelocityFrame) {
 TEST(GnssGpsd, GpsfakeReportsTheTruthWithinTheError) {
   if (std::system("command -v gpsfake >/dev/null 2>&1") != 0) GTEST_SKIP() << "gpsfake not installed";
   auto feed = rover_feed();
-  ublox_neo6m_config c;
-  ublox_neo6m_defaults(&c);
-  c.utc_start_s = kUtcStart;
-  c.error.ttff_s = 0.0;
+  ublox_neo6m_config c = talker_config(ublox_neo6m_defaults, 0.0);
   c.error.seed = 7;
   ublox_neo6m d;
   ublox_neo6m_init(&d, &c, feed.source(), 0);

@@ -71,6 +71,26 @@ void hold_truth(mpu6000* s, int64_t t, Eigen::Vector3d f, Eigen::Vector3d w) {
   mpu6000_set_truth(s, t, f.data(), w.data());
 }
 
+// A noise-free part on SPI, woken at 0 (it powers up asleep): where most register tests start.
+Bus woken_on_spi(mpu6000* s) {
+  const mpu6000_config c = clean_config();
+  mpu6000_init(s, &c, 0);
+  Bus bus{s, false};
+  bus.write(MPU6000_PWR_MGMT_1, 0, 0);
+  return bus;
+}
+
+// A part woken with DLPF_CFG `dlpf` and held still, 1 g up, for the error statistics.
+void start_at_rest(mpu6000* s, const mpu6000_config& c, uint8_t dlpf) {
+  mpu6000_init(s, &c, 0);
+  mpu6000_reg_write(s, MPU6000_PWR_MGMT_1, 0);
+  mpu6000_reg_write(s, MPU6000_CONFIG, dlpf);
+  hold_truth(s, 0, {0, 0, kG}, {0, 0, 0});
+}
+
+// The big-endian reading at byte `at` of the data registers (0x3B on), straight from the model.
+int16_t shown16(const mpu6000& s, size_t at) { return static_cast<int16_t>((s.shown[at] << 8) | s.shown[at + 1]); }
+
 // ---------- MPU-6000: register file ----------
 
 TEST(Mpu6000, ResetValuesAndSleepUntilWoken) {
@@ -155,12 +175,7 @@ TEST(Mpu6000, BurstReadsComeFromOneSamplingInstant) {
   // byte by byte over 560 us, across four 8 kHz samples. The bursts must agree byte for byte,
   // though the ramp moves ~6 LSB per sample.
   mpu6000 a, b;
-  const mpu6000_config c = clean_config();
-  mpu6000_init(&a, &c, 0);
-  mpu6000_init(&b, &c, 0);
-  Bus ba{&a, false}, bb{&b, false};
-  ba.write(MPU6000_PWR_MGMT_1, 0, 0);
-  bb.write(MPU6000_PWR_MGMT_1, 0, 0);
+  Bus ba = woken_on_spi(&a), bb = woken_on_spi(&b);
   auto truth_at = [](int64_t t) {
     const double x = 1e-6 * static_cast<double>(t);  // per microsecond
     return std::pair<Eigen::Vector3d, Eigen::Vector3d>{{0.02 * x, 0, kG}, {0, 0, 0.0005 * x}};
@@ -211,10 +226,7 @@ TEST(Mpu6000, DigitalLowPassFilterAttenuatesAsConfigured) {
   // same 200 Hz passes at 0.85.
   auto response = [](int cfg, double f_hz) {
     mpu6000 s;
-    const mpu6000_config c = clean_config();
-    mpu6000_init(&s, &c, 0);
-    Bus bus{&s, false};
-    bus.write(MPU6000_PWR_MGMT_1, 0, 0);
+    Bus bus = woken_on_spi(&s);
     bus.write(MPU6000_CONFIG, static_cast<uint8_t>(cfg), 0);
     const double amp_dps = 100;
     std::vector<double> out;
@@ -255,10 +267,7 @@ std::vector<std::pair<int64_t, int>> pin_edges(mpu6000* s, int64_t t0, int64_t t
 
 TEST(Mpu6000, DataReadyPinTiming) {
   mpu6000 s;
-  const mpu6000_config c = clean_config();
-  mpu6000_init(&s, &c, 0);
-  Bus bus{&s, false};
-  bus.write(MPU6000_PWR_MGMT_1, 0, 0);
+  Bus bus = woken_on_spi(&s);
   bus.write(MPU6000_CONFIG, 1, 0);       // DLPF on: gyro output 1 kHz
   bus.write(MPU6000_SMPLRT_DIV, 4, 0);   // 1 kHz / (1 + 4) = 200 Hz
   bus.write(MPU6000_INT_ENABLE, MPU6000_DATA_RDY, 0);
@@ -302,10 +311,7 @@ TEST(Mpu6000, DataReadyPinTiming) {
 
 TEST(Mpu6000, FifoPacketsCountAndOverflow) {
   mpu6000 s;
-  const mpu6000_config c = clean_config();
-  mpu6000_init(&s, &c, 0);
-  Bus bus{&s, false};
-  bus.write(MPU6000_PWR_MGMT_1, 0, 0);
+  Bus bus = woken_on_spi(&s);
   bus.write(MPU6000_CONFIG, 1, 0);  // 1 kHz
   bus.write(MPU6000_INT_ENABLE, MPU6000_FIFO_OFLOW, 0);
   bus.write(MPU6000_FIFO_EN, MPU6000_FIFO_EN_ACCEL | MPU6000_FIFO_EN_XG | MPU6000_FIFO_EN_YG | MPU6000_FIFO_EN_ZG, 0);
@@ -375,10 +381,7 @@ TEST(Mpu6000, AtRestReadsOneGAndZeroRateWithinTheConfiguredBias) {
   for (uint64_t seed = 1; seed <= 20; ++seed) {
     c.seed = seed;
     mpu6000 s;
-    mpu6000_init(&s, &c, 0);
-    mpu6000_reg_write(&s, MPU6000_PWR_MGMT_1, 0);
-    mpu6000_reg_write(&s, MPU6000_CONFIG, 3);
-    hold_truth(&s, 0, {0, 0, kG}, {0, 0, 0});
+    start_at_rest(&s, c, 3);
     double sum[6] = {};
     const int n = 200;
     for (int k = 1; k <= n; ++k) {
@@ -386,7 +389,7 @@ TEST(Mpu6000, AtRestReadsOneGAndZeroRateWithinTheConfiguredBias) {
       for (int i = 0; i < 6; ++i) {
         const int base = i < 3 ? 0 : 8;
         const int j = i % 3;
-        sum[i] += static_cast<int16_t>((s.shown[base + 2 * j] << 8) | s.shown[base + 2 * j + 1]);
+        sum[i] += shown16(s, static_cast<size_t>(base + 2 * j));
       }
     }
     for (int i = 0; i < 3; ++i) gyro_dev.push_back(sum[3 + i] / n / 131.0 * kDeg);
@@ -430,16 +433,13 @@ TEST(Mpu6000, GyroAllanDeviationShowsWhiteNoiseAndBiasWalk) {
   c.gyro.bias_walk = 1e-4;
   c.seed = 7;
   mpu6000 s;
-  mpu6000_init(&s, &c, 0);
-  mpu6000_reg_write(&s, MPU6000_PWR_MGMT_1, 0);
-  mpu6000_reg_write(&s, MPU6000_CONFIG, 1);
-  hold_truth(&s, 0, {0, 0, kG}, {0, 0, 0});
+  start_at_rest(&s, c, 1);
   const size_t n = 2000000;
   std::vector<std::vector<double>> cum(3, std::vector<double>(n + 1, 0.0));
   for (size_t k = 1; k <= n; ++k) {
     mpu6000_advance(&s, static_cast<int64_t>(k) * kMs);
     for (size_t i = 0; i < 3; ++i) {
-      const int16_t v = static_cast<int16_t>((s.shown[8 + 2 * i] << 8) | s.shown[9 + 2 * i]);
+      const int16_t v = shown16(s, 8 + 2 * i);
       cum[i][k] = cum[i][k - 1] + v / 131.0 * kDeg;
     }
   }
@@ -528,16 +528,34 @@ TEST(MagneticField, Wmm2025MatchesNoaaSoftware) {
 
 // ---------- Compasses ----------
 
-std::vector<uint8_t> hmc_read(hmc5883l* s, uint8_t reg, size_t n, int64_t t) {
+// Register reads and writes over I2C as a driver makes them: the register pointer first.
+template <class Dev>
+std::vector<uint8_t> i2c_read(int (*write)(Dev*, const uint8_t*, size_t, int64_t),
+                              int (*read)(Dev*, uint8_t*, size_t, int64_t), Dev* s, uint8_t reg, size_t n, int64_t t) {
   std::vector<uint8_t> out(n);
-  EXPECT_EQ(hmc5883l_i2c_write(s, &reg, 1, t), 0);
-  EXPECT_EQ(hmc5883l_i2c_read(s, out.data(), n, t), 0);
+  EXPECT_EQ(write(s, &reg, 1, t), 0);
+  EXPECT_EQ(read(s, out.data(), n, t), 0);
   return out;
 }
-void hmc_write(hmc5883l* s, uint8_t reg, uint8_t v, int64_t t) {
+template <class Dev>
+void i2c_write(int (*write)(Dev*, const uint8_t*, size_t, int64_t), Dev* s, uint8_t reg, uint8_t v, int64_t t) {
   const uint8_t d[2] = {reg, v};
-  EXPECT_EQ(hmc5883l_i2c_write(s, d, 2, t), 0);
+  EXPECT_EQ(write(s, d, 2, t), 0);
 }
+
+// A compass config for the register tests: the datasheet's, without noise.
+template <class Config>
+Config noiseless(void (*defaults)(Config*)) {
+  Config c;
+  defaults(&c);
+  c.noise_sd_T = 0;
+  return c;
+}
+
+std::vector<uint8_t> hmc_read(hmc5883l* s, uint8_t reg, size_t n, int64_t t) {
+  return i2c_read(hmc5883l_i2c_write, hmc5883l_i2c_read, s, reg, n, t);
+}
+void hmc_write(hmc5883l* s, uint8_t reg, uint8_t v, int64_t t) { i2c_write(hmc5883l_i2c_write, s, reg, v, t); }
 
 // Heading of the sensor's x axis clockwise from true north, from a level compass's x and y
 // (x forward, y left, z up) and the declination.
@@ -551,9 +569,7 @@ double angle_diff_deg(double a, double b) { return std::remainder(a - b, 360.0);
 
 TEST(Hmc5883l, RegistersTimingAndOverflow) {
   hmc5883l s;
-  hmc5883l_config c;
-  hmc5883l_default_config(&c);
-  c.noise_sd_T = 0;
+  const hmc5883l_config c = noiseless(hmc5883l_default_config);
   hmc5883l_init(&s, &c, 0);
   // Identification 'H' '4' '3'; past 12 the pointer wraps to 0 (CRA 0x10, CRB 0x20, MR 0x01).
   const std::vector<uint8_t> id = hmc_read(&s, 0x0A, 6, 0);
@@ -651,22 +667,14 @@ TEST(Hmc5883l, HeadingWithinADegreeWhenLevelAndTiltShowsAsOnARobot) {
 }
 
 std::vector<uint8_t> qmc_read(qmc5883l* s, uint8_t reg, size_t n, int64_t t) {
-  std::vector<uint8_t> out(n);
-  EXPECT_EQ(qmc5883l_i2c_write(s, &reg, 1, t), 0);
-  EXPECT_EQ(qmc5883l_i2c_read(s, out.data(), n, t), 0);
-  return out;
+  return i2c_read(qmc5883l_i2c_write, qmc5883l_i2c_read, s, reg, n, t);
 }
-void qmc_write(qmc5883l* s, uint8_t reg, uint8_t v, int64_t t) {
-  const uint8_t d[2] = {reg, v};
-  EXPECT_EQ(qmc5883l_i2c_write(s, d, 2, t), 0);
-}
+void qmc_write(qmc5883l* s, uint8_t reg, uint8_t v, int64_t t) { i2c_write(qmc5883l_i2c_write, s, reg, v, t); }
 int16_t le16(const std::vector<uint8_t>& d, size_t i) { return static_cast<int16_t>(d[i] | (d[i + 1] << 8)); }
 
 TEST(Qmc5883l, RegistersAndHowFirmwareTellsItFromAnHmc) {
   qmc5883l s;
-  qmc5883l_config c;
-  qmc5883l_default_config(&c);
-  c.noise_sd_T = 0;
+  const qmc5883l_config c = noiseless(qmc5883l_default_config);
   qmc5883l_init(&s, &c, 0);
   // Detection: chip ID 0xFF at 0x0D; no 'H43' where the HMC keeps it.
   EXPECT_EQ(qmc_read(&s, QMC5883L_CHIP_ID, 1, 0)[0], 0xFF);

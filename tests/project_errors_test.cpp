@@ -485,22 +485,25 @@ TEST(ProjectErrors, TheBundledDefaultProjectLoadsAsWritten) {
     EXPECT_NEAR(motor.no_load_speed_radps, 160.0 * 2.0 * kPi / 60.0, 1e-9);
     EXPECT_DOUBLE_EQ(motor.stall_torque_nm, 0.6);
   }
-  // Firmware drives it: the obstacle avoider on one MCU, compiled from its source.
+  // Firmware drives it: the reference rover on one MCU, compiled from its sources and the shared
+  // drivers, with every sensor kind wired.
   EXPECT_TRUE(rover.script.empty());
   ASSERT_EQ(rover.mcus.size(), 1u);
   const McuDesc& mcu = rover.mcus[0];
   EXPECT_EQ(mcu.name, "main");
-  ASSERT_EQ(mcu.firmware_sources.size(), 1u);
-  EXPECT_EQ(fs::path(mcu.firmware_sources[0]).filename(), "avoider.c");
-  EXPECT_TRUE(fs::exists(mcu.firmware_sources[0]));
-  ASSERT_EQ(mcu.devices.size(), 4u);
+  ASSERT_EQ(mcu.firmware_sources.size(), 9u);
+  EXPECT_EQ(fs::path(mcu.firmware_sources[0]).filename(), "rover.c");
+  for (const auto& source : mcu.firmware_sources) EXPECT_TRUE(fs::exists(source)) << source;
+  ASSERT_EQ(mcu.devices.size(), 10u);
   EXPECT_STREQ(mcu.devices[0].kind->element, "gp2d12");
   EXPECT_EQ(mcu.devices[0].wire("adc"), 0);
   EXPECT_NEAR(mcu.devices[0].yaw_rad, 30 * kPi / 180, 1e-12);
-  EXPECT_STREQ(mcu.devices[2].kind->element, "gp2d15");
-  EXPECT_EQ(mcu.devices[2].wire("pin"), 22);
-  EXPECT_STREQ(mcu.devices[3].kind->element, "bump");
-  EXPECT_EQ(mcu.devices[3].wire("pin"), 2);
+  EXPECT_STREQ(mcu.devices[2].kind->element, "bump");
+  EXPECT_EQ(mcu.devices[2].wire("pin"), 2);
+  EXPECT_STREQ(mcu.devices[4].kind->element, "lms2xx");
+  EXPECT_EQ(mcu.devices[4].wire("uart"), 1);
+  EXPECT_STREQ(mcu.devices[6].kind->element, "mpu6000");
+  EXPECT_EQ(mcu.devices[6].wire("cs"), 53);
   ASSERT_EQ(mcu.motors.size(), 2u);
   EXPECT_EQ(mcu.motors[0].motor, "left");
   EXPECT_EQ(mcu.motors[0].pwm_pin, 3);

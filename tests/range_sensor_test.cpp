@@ -13,8 +13,7 @@
 #include <vector>
 
 #include "physics/physics_world.hpp"
-#include "physics/scenery.hpp"
-#include "scene/project_loader.hpp"
+#include "ray_fixture.hpp"
 #include "temp_dir.hpp"
 #include "test_world.hpp"
 
@@ -23,26 +22,9 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-// A world's terrain and obstacles, with no robot. The description outlives the physics world: a
-// heightfield reads its heights from it.
-struct Scene {
-  explicit Scene(const std::string& world_children)
-      : project(test::project_from_xml(test::project_xml(R"(step="0.001")", world_children, ""))),
-        physics(project.world, 1) {
-    build_terrain(physics, project.world.terrain);
-    const auto problems = build_obstacles(physics, project.world, project.file);
-    if (!problems.empty()) throw std::runtime_error(problems.front());
-  }
-  ProjectDesc project;
-  PhysicsWorld physics;
-};
-
-int entity_of(const PhysicsWorld& physics, const std::string& name) {
-  const auto& names = physics.entity_names();
-  for (std::size_t i = 0; i < names.size(); ++i)
-    if (names[i] == name) return static_cast<int>(i);
-  throw std::invalid_argument("no entity '" + name + "'");
-}
+using test::DefaultWorld;
+using test::entity_of;
+using test::Scene;
 
 RangeBeam beam_at(const Eigen::Vector3d& position, double yaw_deg, double pitch_deg = 0, double max_range = 10,
                   double half_angle_deg = 0) {
@@ -396,21 +378,6 @@ TEST(RangeSensorHits, ConeBundleSeesAThinPoleOffTheAxisThatTheCentreRayMisses) {
   EXPECT_FALSE(RangeSensor(beam_at(origin, -5, 0, 0.8, 5)).measure(scene.physics, nullptr, -1).hit);
 }
 
-// The default project's world and rover (no firmware), settled for a moment: terrain, walls,
-// boxes, trees, a mesh rock, a loose parcel and a robot, to check every kind of geom at once.
-struct DefaultWorld {
-  DefaultWorld() : project(load()), sim(project, 1) { test::run_for(sim, 0.3); }
-  static ProjectDesc load() {
-    Diagnostics diagnostics;
-    auto p = load_project(std::string(SEAR_ASSET_DIR) + "/projects/default.xml", diagnostics);
-    if (!p) throw std::runtime_error(diagnostics.joined());
-    for (auto& robot : p->robots) robot.mcus.clear();
-    return *p;
-  }
-  ProjectDesc project;
-  Simulation sim;
-};
-
 void brute_force_into(dSpaceID space, std::vector<dGeomID>& out) {
   for (int i = 0; i < dSpaceGetNumGeoms(space); ++i) {
     dGeomID g = dSpaceGetGeom(space, i);
@@ -419,36 +386,18 @@ void brute_force_into(dSpaceID space, std::vector<dGeomID>& out) {
   }
 }
 
-// The reference: one full-length ray against every tagged geom of the world, no box culling, no
-// shortening, the closest contact kept.
+// The reference: ODE's answer over every tagged geom of the world, static and moving, as a reading.
 RangeReading brute_force(const PhysicsWorld& physics, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
                          double length, int ignore_entity) {
   std::vector<dGeomID> geoms;
   brute_force_into(physics.static_space(), geoms);
   brute_force_into(physics.dynamic_space(), geoms);
-  dGeomID ray = dCreateRay(nullptr, length);
-  dGeomRaySetFirstContact(ray, 0);
-  dGeomRaySetBackfaceCull(ray, 0);
-  dGeomRaySetClosestHit(ray, 1);
-  dGeomRaySet(ray, origin.x(), origin.y(), origin.z(), dir.x(), dir.y(), dir.z());
+  const RayHit hit = test::ode_closest_hit(geoms, origin, dir, length, ignore_entity);
   RangeReading best;
-  best.distance_m = length;
-  for (dGeomID g : geoms) {
-    const auto* tag = static_cast<const GeomTag*>(dGeomGetData(g));
-    if (ignore_entity >= 0 && tag->entity == ignore_entity) continue;
-    dContactGeom contacts[64];
-    const int n = dCollide(ray, g, 64, contacts, sizeof(dContactGeom));
-    for (int k = 0; k < n; ++k) {
-      const Eigen::Vector3d point(contacts[k].pos[0], contacts[k].pos[1], contacts[k].pos[2]);
-      const double t = (point - origin).dot(dir);
-      if (t < 0 || t > length || (best.hit && t >= best.distance_m)) continue;
-      best.hit = true;
-      best.distance_m = t;
-      best.point_m = point;
-      best.entity = tag->entity;
-    }
-  }
-  dGeomDestroy(ray);
+  best.hit = hit.hit;
+  best.distance_m = hit.hit ? hit.distance_m : length;
+  best.point_m = hit.point_m;
+  best.entity = hit.entity;
   return best;
 }
 
@@ -488,7 +437,7 @@ Eigen::Matrix3d yaw_pitch(const Eigen::Vector3d& dir) {
 }
 
 TEST(RangeSensorFastPath, SingleRaysAndBundlesFindWhatEveryGeomTestedAlongEveryRayFinds) {
-  const DefaultWorld world;
+  const DefaultWorld world(0.3);
   const PhysicsWorld& physics = world.sim.physics();
   const int rover = world.sim.robot(0).entity();
   RayDraw draw(world);
@@ -536,7 +485,7 @@ TEST(RangeSensorFastPath, SingleRaysAndBundlesFindWhatEveryGeomTestedAlongEveryR
 }
 
 TEST(RangeSensorFastPath, ASetOfBeamsHitsExactlyWhenOneOfItsSensorsDoes) {
-  const DefaultWorld world;
+  const DefaultWorld world(0.3);
   const PhysicsWorld& physics = world.sim.physics();
   const int rover = world.sim.robot(0).entity();
   RayDraw draw(world);

@@ -10,15 +10,12 @@
 #include <cmath>
 #include <limits>
 #include <random>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "physics/physics_world.hpp"
-#include "physics/scenery.hpp"
-#include "scene/project_loader.hpp"
+#include "ray_fixture.hpp"
 #include "sensors/range_sensor.hpp"
-#include "test_world.hpp"
 
 namespace sear {
 namespace {
@@ -27,68 +24,17 @@ constexpr double kDeg = M_PI / 180.0;
 // One unit in the last place of a float, relative: Embree holds origins, directions and vertices so.
 constexpr double kFloatEps = 1.0 / (1 << 24);
 
-struct Scene {
-  explicit Scene(const std::string& world_children)
-      : project(test::project_from_xml(test::project_xml(R"(step="0.001")", world_children, ""))),
-        physics(project.world, 1) {
-    build_terrain(physics, project.world.terrain);
-    const auto problems = build_obstacles(physics, project.world, project.file);
-    if (!problems.empty()) throw std::runtime_error(problems.front());
-  }
-  ProjectDesc project;
-  PhysicsWorld physics;
-};
+using test::DefaultWorld;
+using test::entity_of;
+using test::Scene;
 
-int entity_of(const PhysicsWorld& physics, const std::string& name) {
-  const auto& names = physics.entity_names();
-  for (std::size_t i = 0; i < names.size(); ++i)
-    if (names[i] == name) return static_cast<int>(i);
-  throw std::invalid_argument("no entity '" + name + "'");
-}
-
-// The default project's world (no firmware, its rover settled for a moment).
-struct DefaultWorld {
-  DefaultWorld() : project(load()), sim(project, 1) { test::run_for(sim, 0.2); }
-  static ProjectDesc load() {
-    Diagnostics diagnostics;
-    auto p = load_project(std::string(SEAR_ASSET_DIR) + "/projects/default.xml", diagnostics);
-    if (!p) throw std::runtime_error(diagnostics.joined());
-    for (auto& robot : p->robots) robot.mcus.clear();
-    return *p;
-  }
-  ProjectDesc project;
-  Simulation sim;
-};
-
-// The reference, written independently of the code under test: one full-length ODE ray against
-// every tagged geom of the static space, no culling, the closest contact kept.
+// The reference: ODE's answer over every geom of the static space, which is what the scene holds.
 RayHit ode_reference(const PhysicsWorld& physics, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
                      double length, int ignore_entity) {
-  dGeomID ray = dCreateRay(nullptr, length);
-  dGeomRaySetFirstContact(ray, 0);
-  dGeomRaySetBackfaceCull(ray, 0);
-  dGeomRaySetClosestHit(ray, 1);
-  dGeomRaySet(ray, origin.x(), origin.y(), origin.z(), dir.x(), dir.y(), dir.z());
-  RayHit best;
-  for (int i = 0; i < dSpaceGetNumGeoms(physics.static_space()); ++i) {
-    dGeomID g = dSpaceGetGeom(physics.static_space(), i);
-    const auto* tag = static_cast<const GeomTag*>(dGeomGetData(g));
-    if (!tag || (ignore_entity >= 0 && tag->entity == ignore_entity)) continue;
-    dContactGeom contacts[64];
-    const int n = dCollide(ray, g, 64, contacts, sizeof(dContactGeom));
-    for (int k = 0; k < n; ++k) {
-      const Eigen::Vector3d point(contacts[k].pos[0], contacts[k].pos[1], contacts[k].pos[2]);
-      const double t = (point - origin).dot(dir);
-      if (t < 0 || t > length || (best.hit && t >= best.distance_m)) continue;
-      best.hit = true;
-      best.distance_m = t;
-      best.point_m = point;
-      best.normal_m = Eigen::Vector3d(contacts[k].normal[0], contacts[k].normal[1], contacts[k].normal[2]);
-      best.entity = tag->entity;
-    }
-  }
-  dGeomDestroy(ray);
-  return best;
+  std::vector<dGeomID> geoms;
+  for (int i = 0; i < dSpaceGetNumGeoms(physics.static_space()); ++i)
+    geoms.push_back(dSpaceGetGeom(physics.static_space(), i));
+  return test::ode_closest_hit(geoms, origin, dir, length, ignore_entity);
 }
 
 // The angle between a ray and a surface normal, from either side: pi/2 is grazing.
@@ -97,7 +43,7 @@ double incidence(const Eigen::Vector3d& dir, const Eigen::Vector3d& normal) {
 }
 
 TEST(RayScene, AgreesWithOdeOnThousandsOfRandomRaysInTheDefaultWorld) {
-  const DefaultWorld world;
+  const DefaultWorld world(0.2);
   const PhysicsWorld& physics = world.sim.physics();
   const RayScene& scene = RayScene::of(physics);
   // The 129 x 129 heightmap as ODE's 2 x 128 x 128 triangles, the rock's, and 12 per fixed box.
@@ -214,6 +160,17 @@ TEST(RangeSensorSpecular, AWallStruckAt20DegreesEchoesAt70DoesNotWithMaxIncidenc
   const RangeReading wide = RangeSensor(sonar_at(origin, 40, 10, 45)).measure(scene.physics, nullptr, -1);
   ASSERT_TRUE(wide.hit);
   EXPECT_NEAR(wide.distance_m, 1.8 / std::cos(30 * kDeg), 1e-6);
+
+  // ODE alone (the reference path) hears the same echoes.
+  for (double yaw : {20.0, 44.0, 46.0, 70.0}) {
+    for (double half_angle : {0.0, 10.0}) {
+      const RangeSensor s(sonar_at(origin, yaw, half_angle, 45));
+      const RangeReading fast = s.measure(scene.physics, nullptr, -1);
+      const RangeReading slow = s.measure_ode_only(scene.physics, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), -1);
+      ASSERT_EQ(fast.hit, slow.hit) << yaw << " " << half_angle;
+      EXPECT_NEAR(fast.distance_m, slow.distance_m, 1e-9) << yaw << " " << half_angle;
+    }
+  }
 
   // A body that moves (the parcel, through ODE) loses its echo the same way.
   const int parcel = entity_of(scene.physics, "parcel");

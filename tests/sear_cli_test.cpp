@@ -76,7 +76,8 @@ TEST(SearCli, DefaultProjectRunsAreByteIdentical) {
 
 TEST(SearCli, SummaryDistanceMatchesTheTrace) {
   const fs::path out = fresh_dir("distance");
-  ASSERT_EQ(sear("run --quiet --duration 5 --trace-rate 1000 -o " + out.string()).exit_code, 0);
+  // The rover waits for its first GPS fix (5 s) before it drives.
+  ASSERT_EQ(sear("run --quiet --duration 9 --trace-rate 1000 -o " + out.string()).exit_code, 0);
   std::istringstream rows(read(out / "trace_rover.csv"));
   std::string line;
   std::getline(rows, line);

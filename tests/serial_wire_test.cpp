@@ -29,6 +29,23 @@ std::vector<serial_byte> receive_all(SerialWire& wire, int64_t until_ns) {
   return out;
 }
 
+// What `wire`, its receiver begun at rx_baud from the start, reads of all of `sent` by until_ns;
+// the wire is the caller's so that its framing errors can be checked after.
+std::vector<serial_byte> read_through(SerialWire& wire, uint32_t rx_baud, const std::vector<serial_byte>& sent,
+                                      int64_t until_ns) {
+  wire.set_receiver_baud(rx_baud, 0);
+  for (const serial_byte& b : sent) wire.send(b);
+  return receive_all(wire, until_ns);
+}
+
+// When the single 9600-baud bytes of the mismatched-rate tests start.
+constexpr int64_t kStart_ns = 1000000;
+
+// A byte sent at 9600 baud from kStart_ns, as `wire` reads it at rx_baud by until_ns.
+std::vector<serial_byte> read_9600_byte(SerialWire& wire, uint32_t rx_baud, uint8_t value, int64_t until_ns) {
+  return read_through(wire, rx_baud, {byte_at(kStart_ns + serial_frame_ns(9600), 9600, value)}, until_ns);
+}
+
 // Same rate, normal polarity: every byte comes out as sent, same value, same time, whether the
 // bytes are back to back or spaced, and whatever batches they arrive in.
 TEST(SerialWire, MatchingRatesPassBytesThroughExactly) {
@@ -73,15 +90,12 @@ TEST(SerialWire, MatchingRatesPassBytesThroughExactly) {
 // Each ends 10 receiver bits (5 T) after its start edge.
 TEST(SerialWire, NineSixHundredReadAtNineteenTwoHundredGivesThePredictedGarbage) {
   SerialWire wire(false);
-  wire.set_receiver_baud(19200, 0);
-  const int64_t start = 1000000;
-  wire.send(byte_at(start + serial_frame_ns(9600), 9600, '5'));
-  const std::vector<serial_byte> got = receive_all(wire, start + 30 * 104167);
+  const std::vector<serial_byte> got = read_9600_byte(wire, 19200, '5', kStart_ns + 30 * 104167);
   ASSERT_EQ(got.size(), 2u);
   EXPECT_EQ(got[0].value, 0x66);
-  EXPECT_EQ(got[0].end_ns, start + serial_frame_ns(19200));
+  EXPECT_EQ(got[0].end_ns, kStart_ns + serial_frame_ns(19200));
   EXPECT_EQ(got[1].value, 0xF8);
-  EXPECT_EQ(got[1].end_ns, bit_time(start, 7, 9600) + serial_frame_ns(19200));
+  EXPECT_EQ(got[1].end_ns, bit_time(kStart_ns, 7, 9600) + serial_frame_ns(19200));
   EXPECT_EQ(got[0].baud, 19200u);
   EXPECT_EQ(wire.framing_errors(), 1u);
 }
@@ -98,24 +112,18 @@ TEST(SerialWire, NineSixHundredReadAtNineteenTwoHundredGivesThePredictedGarbage)
 TEST(SerialWire, NineSixHundredReadAtFortyEightHundredGivesThePredictedGarbage) {
   {
     SerialWire wire(false);
-    wire.set_receiver_baud(4800, 0);
-    const int64_t start = 1000000;
-    wire.send(byte_at(start + serial_frame_ns(9600), 9600, '0'));
-    const std::vector<serial_byte> got = receive_all(wire, start + 60 * 104167);
+    const std::vector<serial_byte> got = read_9600_byte(wire, 4800, '0', kStart_ns + 60 * 104167);
     ASSERT_EQ(got.size(), 1u);
     EXPECT_EQ(got[0].value, 0xFA);
-    EXPECT_EQ(got[0].end_ns, start + serial_frame_ns(4800));
+    EXPECT_EQ(got[0].end_ns, kStart_ns + serial_frame_ns(4800));
     EXPECT_EQ(wire.framing_errors(), 0u);
   }
   {
     SerialWire wire(false);
-    wire.set_receiver_baud(4800, 0);
-    const int64_t start = 1000000;
-    wire.send(byte_at(start + serial_frame_ns(9600), 9600, '5'));
-    const std::vector<serial_byte> got = receive_all(wire, start + 60 * 104167);
+    const std::vector<serial_byte> got = read_9600_byte(wire, 4800, '5', kStart_ns + 60 * 104167);
     ASSERT_EQ(got.size(), 1u);
     EXPECT_EQ(got[0].value, 0xFF);
-    EXPECT_EQ(got[0].end_ns, bit_time(start, 7, 9600) + serial_frame_ns(4800));
+    EXPECT_EQ(got[0].end_ns, bit_time(kStart_ns, 7, 9600) + serial_frame_ns(4800));
   }
 }
 
@@ -144,9 +152,7 @@ TEST(SerialWire, InvertedMaxbotixTextReadsAsThePredictedGarbageAndTheInverterRes
   for (int i = 0; i < 5; ++i) sent.push_back(byte_at(start + (i + 1) * frame, baud, text[i]));
 
   SerialWire inverted(MAXBOTIX_SERIAL_INVERTED != 0);
-  inverted.set_receiver_baud(baud, 0);
-  for (const serial_byte& b : sent) inverted.send(b);
-  const std::vector<serial_byte> got = receive_all(inverted, start + 80 * 104167);
+  const std::vector<serial_byte> got = read_through(inverted, baud, sent, start + 80 * 104167);
   const uint8_t expected[] = {0xAB, 0xB6, 0x96, 0x56, 0x00};
   // Start edges at p2, p15, p25, p35, p49: bit p % 10 of the frame sent (p / 10)-th.
   const int start_bits[] = {2, 15, 25, 35, 49};
@@ -164,9 +170,7 @@ TEST(SerialWire, InvertedMaxbotixTextReadsAsThePredictedGarbageAndTheInverterRes
 
   // The wiring's inverter (a MAX232 or a transistor) undoes the polarity: the text comes through.
   SerialWire through_inverter(false);
-  through_inverter.set_receiver_baud(baud, 0);
-  for (const serial_byte& b : sent) through_inverter.send(b);
-  const std::vector<serial_byte> clean = receive_all(through_inverter, start + 80 * 104167);
+  const std::vector<serial_byte> clean = read_through(through_inverter, baud, sent, start + 80 * 104167);
   ASSERT_EQ(clean.size(), 5u);
   for (int i = 0; i < 5; ++i) {
     EXPECT_EQ(clean[i].value, text[i]);
@@ -189,10 +193,8 @@ TEST(SerialWire, BatchesDecodeLikeOneStreamAndAPortNotBegunGetsNothing) {
   const int64_t last = sent.back().end_ns + 10 * frame;
   for (const uint32_t rx_baud : {4800u, 9600u, 19200u, 38400u}) {
     SerialWire whole(true), batched(true);
-    whole.set_receiver_baud(rx_baud, 0);
+    const std::vector<serial_byte> once = read_through(whole, rx_baud, sent, last + 1000000);
     batched.set_receiver_baud(rx_baud, 0);
-    for (const serial_byte& b : sent) whole.send(b);
-    const std::vector<serial_byte> once = receive_all(whole, last + 1000000);
     std::vector<serial_byte> in_batches;
     size_t next = 0;
     for (int64_t q_end = 1000000; q_end <= last + 1000000; q_end += 1000000) {

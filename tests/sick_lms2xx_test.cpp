@@ -376,22 +376,21 @@ TEST(Lms2xxProtocol, NaksBadTelegramsAndResynchronises) {
   uint8_t t[16];
   const uint8_t status[] = {0x31};
   const size_t n = lms2xx_encode_request(status, 1, t, sizeof t);
-  std::vector<uint8_t> bytes = {0x02};
-  bytes.insert(bytes.end(), t, t + n);
-  h.send_raw(bytes, 9600);
-  h.run_for(500 * kMs);
-  items = h.take();
+  // A status request behind `garbage`, and what comes back within half a second.
+  const auto status_request_after = [&](std::vector<uint8_t> garbage) {
+    garbage.insert(garbage.end(), t, t + n);
+    h.send_raw(garbage, 9600);
+    h.run_for(500 * kMs);
+    return h.take();
+  };
+  items = status_request_after({0x02});
   ASSERT_EQ(items.size(), 2u);
   EXPECT_EQ(items[0].code(), LMS2XX_ACK);
   EXPECT_EQ(items[1].code(), 0xB1);
   // A truncated header whose announced length swallows the next telegram: its "CRC" fails
   // (NAK), the receiver re-reads from the byte after its STX, takes the real STX's header with
   // two bytes too many (a second NAK), and on the next try finds the real telegram.
-  bytes = {0x02, 0x00, 0x02, 0x00};
-  bytes.insert(bytes.end(), t, t + n);
-  h.send_raw(bytes, 9600);
-  h.run_for(500 * kMs);
-  items = h.take();
+  items = status_request_after({0x02, 0x00, 0x02, 0x00});
   ASSERT_EQ(items.size(), 4u);
   EXPECT_EQ(items[0].code(), LMS2XX_NAK);
   EXPECT_EQ(items[1].code(), LMS2XX_NAK);

@@ -7,11 +7,7 @@
 
 static const uint32_t bauds[] = {4800, 9600, 14400, 19200, 38400, 57600, 115200};
 
-static int baud_ok(uint32_t b) {
-  for (size_t i = 0; i < sizeof bauds / sizeof bauds[0]; ++i)
-    if (bauds[i] == b) return 1;
-  return 0;
-}
+static int baud_ok(uint32_t b) { return gnss_baud_listed(bauds, sizeof bauds / sizeof bauds[0], b); }
 
 static const struct nmea_style style = {3, 4, 2, 0, 1};
 
@@ -35,24 +31,12 @@ static void default_rates(struct mtk3339 *s) {
   s->rate[MTK_GSV] = 5;
 }
 
-static int64_t epoch_ns(const struct mtk3339 *s, int64_t utc_ms) {
-  return s->power_on_ns + (utc_ms - s->utc_start_ms) * 1000000;
-}
-
-static int64_t next_on_grid(int64_t utc_ms, int64_t period_ms) { return (utc_ms / period_ms + 1) * period_ms; }
-
 void mtk3339_init(struct mtk3339 *s, const struct mtk3339_config *c, struct gnss_truth_source src, int64_t power_on_ns) {
   memset(s, 0, sizeof *s);
   s->src = src;
   gnss_error_init(&s->error, &c->error);
   nmea_tx_init(&s->tx, baud_ok(c->baud) ? c->baud : MTK_DEFAULT_BAUD, MTK_TX_BUFFER);
-  s->power_on_ns = s->start_ns = power_on_ns;
-  s->utc_start_ms = c->utc_start_s * 1000;
-  double hz = c->rate_hz;
-  if (!(hz >= 1.0)) hz = 1.0;
-  if (hz > 10.0) hz = 10.0;
-  s->period_ms = (int64_t)(1000.0 / hz + 0.5);
-  s->next_epoch_ms = next_on_grid(s->utc_start_ms + MTK_BOOT_NS / 1000000, s->period_ms);
+  gnss_talker_init(&s->talker, power_on_ns, MTK_BOOT_NS, c->utc_start_s, c->rate_hz);
   default_rates(s);
 }
 
@@ -67,16 +51,17 @@ static void say(struct mtk3339 *s, int64_t ready, const char *body) {
   send(s, ready, text, nmea_finish(text, sizeof text, body), 1);
 }
 
-static void epoch(struct mtk3339 *s) {
-  const int64_t t = epoch_ns(s, s->next_epoch_ms);
-  const int fix = gnss_error_has_fix(&s->error, t - s->start_ns);
-  const int64_t shown_ms = fix ? s->next_epoch_ms : s->next_epoch_ms - s->utc_start_ms + RTC_RESET_S * 1000;
+static void epoch(void *talker) {
+  struct mtk3339 *s = talker;
+  const struct gnss_talker *g = &s->talker;
+  const int64_t t = gnss_talker_epoch_ns(g, g->next_epoch_ms);
+  const int fix = gnss_error_has_fix(&s->error, t - g->start_ns);
+  const int64_t shown_ms = fix ? g->next_epoch_ms : g->next_epoch_ms - g->utc_start_ms + RTC_RESET_S * 1000;
   struct nmea_solution f;
-  nmea_solve(&f, &s->error, s->src, t, s->power_on_ns, s->start_ns, shown_ms, 1);
+  nmea_solve(&f, &s->error, s->src, t, g->power_on_ns, g->start_ns, shown_ms, 1);
   const int64_t ready = t + MTK_OUTPUT_DELAY_NS;
   char text[NMEA_MAX_SENTENCE + 1];
-  const uint64_t k = s->epoch_count;
-#define DUE(id) (s->rate[id] && k % s->rate[id] == 0)
+#define DUE(id) gnss_talker_due(g, s->rate[id])
   /* The order MTK firmware prints in. */
   if (DUE(MTK_GGA)) send(s, ready, text, nmea_gga(text, sizeof text, &style, &f), 0);
   if (DUE(MTK_GLL)) send(s, ready, text, nmea_gll(text, sizeof text, &style, &f), 0);
@@ -87,32 +72,19 @@ static void epoch(struct mtk3339 *s) {
   if (DUE(MTK_VTG)) send(s, ready, text, nmea_vtg(text, sizeof text, &style, &f), 0);
   if (DUE(MTK_ZDA)) send(s, ready, text, nmea_zda(text, sizeof text, &style, &f), 0);
 #undef DUE
-  ++s->epoch_count;
-  s->next_epoch_ms += s->period_ms;
 }
 
-static int64_t next_event_ns(const struct mtk3339 *s) {
-  return s->booted ? epoch_ns(s, s->next_epoch_ms) : s->power_on_ns + MTK_BOOT_NS;
+static void boot(void *talker) {
+  struct mtk3339 *s = talker;
+  const int64_t t = s->talker.power_on_ns + MTK_BOOT_NS;
+  say(s, t, "PMTK011,MTKGPS");
+  say(s, t, "PMTK010,001"); /* system message: startup */
 }
 
-static void run_event(struct mtk3339 *s) {
-  if (s->booted) {
-    epoch(s);
-    return;
-  }
-  s->booted = 1;
-  say(s, s->power_on_ns + MTK_BOOT_NS, "PMTK011,MTKGPS");
-  say(s, s->power_on_ns + MTK_BOOT_NS, "PMTK010,001"); /* system message: startup */
-}
+static const struct gnss_talker_events events = {boot, epoch};
 
 size_t mtk3339_transmit(struct mtk3339 *s, int64_t now_ns, int64_t until_ns, struct serial_byte *out, size_t cap) {
-  nmea_tx_window(&s->tx, now_ns, until_ns);
-  size_t n = nmea_tx_take(&s->tx, out, cap);
-  while (n < cap && next_event_ns(s) < until_ns) {
-    run_event(s);
-    n += nmea_tx_take(&s->tx, out + n, cap - n);
-  }
-  return n;
+  return gnss_talker_transmit(&s->talker, &events, s, &s->tx, now_ns, until_ns, out, cap);
 }
 
 /* ---- PMTK commands (MTK NMEA packet user manual) ---- */
@@ -133,13 +105,7 @@ static int number(const char *f, long lo, long hi, long *v) {
 
 static void pmtk(struct mtk3339 *s, char *body, int64_t t) {
   char *f[24];
-  int n = 0;
-  f[n++] = body;
-  for (char *c = body; *c && n < 24; ++c)
-    if (*c == ',') {
-      *c = '\0';
-      f[n++] = c + 1;
-    }
+  const int n = gnss_split_fields(body, f, 24);
   long command;
   if (!number(f[0] + 4, 0, 999, &command)) return;
   long v;
@@ -150,9 +116,7 @@ static void pmtk(struct mtk3339 *s, char *body, int64_t t) {
       } else if (v < 100 || v > 10000) {
         ack(s, t, 220, 2);
       } else {
-        s->period_ms = v;
-        const int64_t now_ms = s->utc_start_ms + (t - s->power_on_ns) / 1000000;
-        s->next_epoch_ms = next_on_grid(s->booted ? now_ms : s->utc_start_ms + MTK_BOOT_NS / 1000000, v);
+        gnss_talker_set_period(&s->talker, v, t);
         ack(s, t, 220, 3);
       }
       return;
@@ -186,7 +150,7 @@ static void pmtk(struct mtk3339 *s, char *body, int64_t t) {
       const double ttff_s = s->error.config.ttff_s;
       const double wanted_s = command == 101 && MTK_HOT_START_TTFF_S < ttff_s ? MTK_HOT_START_TTFF_S : ttff_s;
       /* The fix comes wanted_s after the restart: start_ns is where ttff_s would end then. */
-      s->start_ns = t + (int64_t)((wanted_s - ttff_s) * 1e9);
+      s->talker.start_ns = t + (int64_t)((wanted_s - ttff_s) * 1e9);
       if (command == 104) default_rates(s); /* full cold start: factory settings too */
       say(s, t + MTK_BOOT_NS, "PMTK010,001");
       return;
@@ -201,27 +165,12 @@ static void pmtk(struct mtk3339 *s, char *body, int64_t t) {
 }
 
 void mtk3339_receive(struct mtk3339 *s, const struct serial_byte *b) {
-  while (next_event_ns(s) <= b->end_ns) run_event(s);
+  gnss_talker_catch_up(&s->talker, &events, s, b->end_ns);
   if (b->baud != s->tx.baud) {
     s->line_len = 0;
     return;
   }
-  const char c = (char)b->value;
-  if (c == '$') s->line_len = 0;
-  if (s->line_len >= MTK_MAX_LINE - 1) {
-    s->line_len = 0;
-    return;
-  }
-  s->line[s->line_len++] = c;
-  if (c != '\n') return;
-  const char *body;
-  size_t n;
-  if (s->line[0] == '$' && nmea_parse_frame(s->line, s->line_len, &body, &n) && n > 4 &&
-      strncmp(body, "PMTK", 4) == 0) {
-    char text[MTK_MAX_LINE];
-    memcpy(text, body, n);
-    text[n] = '\0';
+  char text[MTK_MAX_LINE];
+  if (gnss_line_byte(s->line, &s->line_len, MTK_MAX_LINE, (char)b->value, text) > 4 && strncmp(text, "PMTK", 4) == 0)
     pmtk(s, text, b->end_ns);
-  }
-  s->line_len = 0;
 }

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "gnss_error.h"
+#include "gnss_talker.h"
 #include "nmea.h"
 #include "serial_byte.h"
 
@@ -37,12 +38,7 @@ struct mtk3339 {
   struct gnss_truth_source src;
   struct gnss_error error;
   struct nmea_tx tx;
-  int64_t power_on_ns, start_ns;
-  int64_t utc_start_ms;
-  int64_t period_ms;
-  int64_t next_epoch_ms;
-  uint64_t epoch_count;
-  int booted;
+  struct gnss_talker talker;
   uint8_t rate[MTK_NMEA_IDS];
   char line[MTK_MAX_LINE];
   size_t line_len;

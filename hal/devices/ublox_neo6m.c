@@ -22,11 +22,7 @@
 
 static const uint32_t bauds[] = {4800, 9600, 19200, 38400, 57600, 115200};
 
-static int baud_ok(uint32_t b) {
-  for (size_t i = 0; i < sizeof bauds / sizeof bauds[0]; ++i)
-    if (bauds[i] == b) return 1;
-  return 0;
-}
+static int baud_ok(uint32_t b) { return gnss_baud_listed(bauds, sizeof bauds / sizeof bauds[0], b); }
 
 /* The banner a NEO-6M with firmware 7.03 prints at power-up (as logged from real modules). */
 static const char *const banner[] = {
@@ -64,27 +60,14 @@ void ublox_neo6m_defaults(struct ublox_neo6m_config *c) {
   gnss_error_defaults(&c->error);
 }
 
-static int64_t epoch_ns(const struct ublox_neo6m *s, int64_t utc_ms) {
-  return s->power_on_ns + (utc_ms - s->utc_start_ms) * 1000000;
-}
-
-/* The first epoch on the period's grid after utc_ms. */
-static int64_t next_on_grid(int64_t utc_ms, int64_t period_ms) { return (utc_ms / period_ms + 1) * period_ms; }
-
 void ublox_neo6m_init(struct ublox_neo6m *s, const struct ublox_neo6m_config *c, struct gnss_truth_source src,
                       int64_t power_on_ns) {
   memset(s, 0, sizeof *s);
   s->src = src;
   gnss_error_init(&s->error, &c->error);
   nmea_tx_init(&s->tx, baud_ok(c->baud) ? c->baud : UBLOX_DEFAULT_BAUD, UBLOX_TX_BUFFER);
-  s->power_on_ns = s->start_ns = power_on_ns;
-  s->utc_start_ms = c->utc_start_s * 1000;
-  double hz = c->rate_hz;
-  if (!(hz >= 1.0)) hz = 1.0;
-  if (hz > 10.0) hz = 10.0;
-  s->period_ms = (int64_t)(1000.0 / hz + 0.5);
+  gnss_talker_init(&s->talker, power_on_ns, UBLOX_BOOT_NS, c->utc_start_s, c->rate_hz);
   s->time_ref = 1; /* u-blox 6 default: measurements aligned to GPS time */
-  s->next_epoch_ms = next_on_grid(s->utc_start_ms + UBLOX_BOOT_NS / 1000000, s->period_ms);
   /* Factory default (u-blox 6 spec, CFG-MSG): GGA GLL GSA GSV RMC VTG on, the rest off. */
   for (int i = UBLOX_GGA; i <= UBLOX_VTG; ++i) s->rate[i] = 1;
   s->in_proto = PROTO_UBX | PROTO_NMEA;
@@ -98,14 +81,15 @@ static void send_nmea(struct ublox_neo6m *s, int64_t ready, const char *text, si
   if (n && (s->out_proto & PROTO_NMEA)) nmea_tx_queue(&s->tx, ready, text, n, 0);
 }
 
-static void epoch(struct ublox_neo6m *s) {
-  const int64_t t = epoch_ns(s, s->next_epoch_ms);
+static void epoch(void *talker) {
+  struct ublox_neo6m *s = talker;
+  const struct gnss_talker *g = &s->talker;
+  const int64_t t = gnss_talker_epoch_ns(g, g->next_epoch_ms);
   struct nmea_solution f;
-  nmea_solve(&f, &s->error, s->src, t, s->power_on_ns, s->start_ns, s->next_epoch_ms, 0);
+  nmea_solve(&f, &s->error, s->src, t, g->power_on_ns, g->start_ns, g->next_epoch_ms, 0);
   const int64_t ready = t + UBLOX_OUTPUT_DELAY_NS;
   char text[NMEA_MAX_SENTENCE + 1];
-  const uint64_t k = s->epoch_count;
-#define DUE(id) (s->rate[id] && k % s->rate[id] == 0)
+#define DUE(id) gnss_talker_due(g, s->rate[id])
   /* The order a NEO-6M prints its default set in. */
   if (DUE(UBLOX_RMC)) send_nmea(s, ready, text, nmea_rmc(text, sizeof text, &style, &f));
   if (DUE(UBLOX_VTG)) send_nmea(s, ready, text, nmea_vtg(text, sizeof text, &style, &f));
@@ -116,36 +100,22 @@ static void epoch(struct ublox_neo6m *s) {
   if (DUE(UBLOX_GLL)) send_nmea(s, ready, text, nmea_gll(text, sizeof text, &style, &f));
   if (DUE(UBLOX_ZDA)) send_nmea(s, ready, text, nmea_zda(text, sizeof text, &style, &f));
 #undef DUE
-  ++s->epoch_count;
-  s->next_epoch_ms += s->period_ms;
 }
 
-static int64_t next_event_ns(const struct ublox_neo6m *s) {
-  return s->booted ? epoch_ns(s, s->next_epoch_ms) : s->power_on_ns + UBLOX_BOOT_NS;
-}
-
-static void run_event(struct ublox_neo6m *s) {
-  if (s->booted) {
-    epoch(s);
-    return;
-  }
-  s->booted = 1;
+static void boot(void *talker) {
+  struct ublox_neo6m *s = talker;
   char text[NMEA_MAX_SENTENCE + 1];
   for (size_t i = 0; i < sizeof banner / sizeof banner[0]; ++i) {
     const size_t n = nmea_finish(text, sizeof text, banner[i]);
-    nmea_tx_queue(&s->tx, s->power_on_ns + UBLOX_BOOT_NS, text, n, 1);
+    nmea_tx_queue(&s->tx, s->talker.power_on_ns + UBLOX_BOOT_NS, text, n, 1);
   }
 }
 
+static const struct gnss_talker_events events = {boot, epoch};
+
 size_t ublox_neo6m_transmit(struct ublox_neo6m *s, int64_t now_ns, int64_t until_ns, struct serial_byte *out,
                             size_t cap) {
-  nmea_tx_window(&s->tx, now_ns, until_ns);
-  size_t n = nmea_tx_take(&s->tx, out, cap);
-  while (n < cap && next_event_ns(s) < until_ns) {
-    run_event(s);
-    n += nmea_tx_take(&s->tx, out + n, cap - n);
-  }
-  return n;
+  return gnss_talker_transmit(&s->talker, &events, s, &s->tx, now_ns, until_ns, out, cap);
 }
 
 /* ---- configuration input ---- */
@@ -227,7 +197,7 @@ static int cfg_msg(struct ublox_neo6m *s, int64_t t, const uint8_t *p, uint16_t 
 static int cfg_rate(struct ublox_neo6m *s, int64_t t, const uint8_t *p, uint16_t len) {
   if (len == 0) {
     uint8_t reply[6];
-    put16(reply, (uint32_t)s->period_ms);
+    put16(reply, (uint32_t)s->talker.period_ms);
     put16(reply + 2, 1);
     put16(reply + 4, s->time_ref);
     send_ubx(s, t, UBX_CLASS_CFG, UBX_CFG_RATE, reply, 6);
@@ -237,11 +207,8 @@ static int cfg_rate(struct ublox_neo6m *s, int64_t t, const uint8_t *p, uint16_t
   const uint16_t meas = u16_at(p), nav = u16_at(p + 2), ref = u16_at(p + 4);
   /* 10 Hz is the fastest this model offers; u-blox 6 fixes navRate at 1 and knows timeRef 0/1. */
   if (meas < 100 || nav != 1 || ref > 1) return 0;
-  s->period_ms = meas;
+  gnss_talker_set_period(&s->talker, meas, t);
   s->time_ref = ref;
-  const int64_t now_ms = s->utc_start_ms + (t - s->power_on_ns) / 1000000;
-  if (s->booted) s->next_epoch_ms = next_on_grid(now_ms, s->period_ms);
-  else s->next_epoch_ms = next_on_grid(s->utc_start_ms + UBLOX_BOOT_NS / 1000000, s->period_ms);
   return 1;
 }
 
@@ -294,18 +261,6 @@ static void ubx_byte(struct ublox_neo6m *s, uint8_t c, int64_t t) {
   if (s->ubx_state == 2 && c == UBX_SYNC2) s->ck_a = s->ck_b = 0;
 }
 
-/* Splits a body at commas into at most max fields (in place). */
-static int fields(char *body, char **f, int max) {
-  int n = 0;
-  f[n++] = body;
-  for (char *c = body; *c && n < max; ++c)
-    if (*c == ',') {
-      *c = '\0';
-      f[n++] = c + 1;
-    }
-  return n;
-}
-
 static int parse_uint(const char *s, int base, unsigned long *v) {
   if (!*s) return 0;
   char *end;
@@ -317,7 +272,7 @@ static int parse_uint(const char *s, int base, unsigned long *v) {
  * "Proprietary Messages". Neither is acknowledged. */
 static void pubx(struct ublox_neo6m *s, char *body) {
   char *f[12];
-  const int n = fields(body, f, 12);
+  const int n = gnss_split_fields(body, f, 12);
   unsigned long v;
   if (n >= 5 && strcmp(f[1], "40") == 0) {
     static const char *const names[UBLOX_NMEA_IDS] = {"GGA", "GLL", "GSA", "GSV", "RMC", "VTG", "", "", "ZDA"};
@@ -336,29 +291,17 @@ static void pubx(struct ublox_neo6m *s, char *body) {
 }
 
 static void nmea_byte(struct ublox_neo6m *s, uint8_t c) {
-  if (c == '$') s->line_len = 0;
-  if (s->line_len >= UBLOX_MAX_LINE - 1) {
-    s->line_len = 0; /* too long for a sentence: wait for the next '$' */
-    return;
-  }
-  s->line[s->line_len++] = (char)c;
-  if (c != '\n') return;
-  const char *body;
-  size_t n;
-  if (s->line[0] == '$' && nmea_parse_frame(s->line, s->line_len, &body, &n) && (s->in_proto & PROTO_NMEA)) {
-    char text[UBLOX_MAX_LINE];
-    memcpy(text, body, n);
-    text[n] = '\0';
-    if (strncmp(text, "PUBX,", 5) == 0) pubx(s, text);
-    /* Anything else ($PMTK..., standard sentences) the module ignores. */
-  }
-  s->line_len = 0;
+  char text[UBLOX_MAX_LINE];
+  if (gnss_line_byte(s->line, &s->line_len, UBLOX_MAX_LINE, (char)c, text) && (s->in_proto & PROTO_NMEA) &&
+      strncmp(text, "PUBX,", 5) == 0)
+    pubx(s, text);
+  /* Anything else ($PMTK..., standard sentences) the module ignores. */
 }
 
 void ublox_neo6m_receive(struct ublox_neo6m *s, const struct serial_byte *b) {
   /* Everything the module did up to this byte happens first, so an answer follows the output
    * already on the line. */
-  while (next_event_ns(s) <= b->end_ns) run_event(s);
+  gnss_talker_catch_up(&s->talker, &events, s, b->end_ns);
   if (b->baud != s->tx.baud) { /* garbled at this rate: a framing error resets both parsers */
     s->ubx_state = 0;
     s->line_len = 0;

@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "gnss_error.h"
+#include "gnss_talker.h"
 #include "nmea.h"
 #include "serial_byte.h"
 
@@ -40,13 +41,8 @@ struct ublox_neo6m {
   struct gnss_truth_source src;
   struct gnss_error error;
   struct nmea_tx tx;
-  int64_t power_on_ns, start_ns;     /* start: power-on, for the time to first fix */
-  int64_t utc_start_ms;
-  int64_t period_ms;                 /* CFG-RATE measRate */
+  struct gnss_talker talker;         /* epoch schedule; its period_ms is CFG-RATE measRate */
   uint16_t time_ref;                 /* CFG-RATE timeRef: 0 UTC, 1 GPS (kept for polls) */
-  int64_t next_epoch_ms;             /* UTC of the next measurement */
-  uint64_t epoch_count;
-  int booted;
   uint8_t rate[UBLOX_NMEA_IDS];      /* an id is output every rate-th epoch; 0: off */
   uint16_t in_proto, out_proto;      /* CFG-PRT masks: bit 0 UBX, bit 1 NMEA */
   uint32_t port_mode;

@@ -10,6 +10,7 @@
 #include <hal/gpio.h>
 
 struct device_ops {
+  uint8_t listens; /* bit n: pins[n] is a pin the firmware drives that the device is told of */
   void (*init)(struct mcu_device *d, const struct sear_link_input *in);
   void (*sample)(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s);
   void (*pin_written)(struct mcu_device *d, const struct sear_link_input *in, uint8_t pin, uint8_t level, int64_t t_ns);
@@ -120,16 +121,110 @@ static void encoder_edge(struct mcu_device *d, const struct sear_link_input *in,
   mcu_set_driven((uint8_t)in->pins[channel ? 1 : 0], (uint8_t)level);
 }
 
+/* MPU-6000 (SPI) and MPU-6050 (I2C): a register file fed one sample of truth per quantum, which
+ * it samples at its own rate; its data-ready pin changes are events. */
+static void mpu_start(struct mcu_device *d, const struct sear_link_input *in, enum mpu6000_variant variant) {
+  struct mpu6000_config c;
+  mpu6000_default_config(&c, variant);
+  c.seed = in->seed;
+  if (variant == MPU6000_VARIANT_6050) c.i2c_address = (uint8_t)in->pins[0];
+  if (in->param[0] >= 0) c.gyro.noise_density = in->param[0];
+  if (in->param[1] >= 0)
+    for (int a = 0; a < 3; ++a) c.gyro.turn_on_bias[a] = in->param[1];
+  if (in->param[2] >= 0) c.accel.noise_density = in->param[2];
+  mpu6000_init(&d->u.mpu, &c, 0);
+  if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)mpu6000_int_level(&d->u.mpu));
+}
+static void mpu6000_start(struct mcu_device *d, const struct sear_link_input *in) { mpu_start(d, in, MPU6000_VARIANT_6000); }
+static void mpu6050_start(struct mcu_device *d, const struct sear_link_input *in) { mpu_start(d, in, MPU6000_VARIANT_6050); }
+
+static void mpu_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
+  (void)in;
+  mpu6000_set_truth(&d->u.mpu, s->time_ns, &s->value[0], &s->value[3]);
+}
+
+static void mpu_cs(struct mcu_device *d, const struct sear_link_input *in, uint8_t pin, uint8_t level, int64_t t_ns) {
+  (void)in;
+  (void)pin;
+  mpu6000_spi_select(&d->u.mpu, level == 0, t_ns);
+}
+
+static int64_t mpu_next(const struct mcu_device *d) { return mpu6000_next_event_ns(&d->u.mpu); }
+
+static void mpu_event(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns) {
+  mpu6000_advance(&d->u.mpu, now_ns);
+  if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)mpu6000_int_level(&d->u.mpu));
+}
+
+static uint8_t mpu_spi(struct mcu_device *d, uint8_t mosi, uint32_t sck_hz, int64_t t_ns) {
+  return mpu6000_spi_transfer(&d->u.mpu, mosi, sck_hz, t_ns);
+}
+static int mpu_i2c_write(struct mcu_device *d, const uint8_t *data, uint8_t length, int64_t t_ns) {
+  return mpu6000_i2c_write(&d->u.mpu, data, length, t_ns);
+}
+static int mpu_i2c_read(struct mcu_device *d, uint8_t *data, uint8_t length, int64_t t_ns) {
+  return mpu6000_i2c_read(&d->u.mpu, data, length, t_ns);
+}
+
+/* The compasses: register files on I2C fed the field in their own axes once a quantum. */
+static void hmc_start(struct mcu_device *d, const struct sear_link_input *in) {
+  struct hmc5883l_config c;
+  hmc5883l_default_config(&c);
+  c.seed = in->seed;
+  hmc5883l_init(&d->u.hmc, &c, 0);
+  if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)hmc5883l_drdy_level(&d->u.hmc));
+}
+static void hmc_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
+  (void)in;
+  hmc5883l_set_truth(&d->u.hmc, s->time_ns, s->value);
+}
+static int64_t hmc_next(const struct mcu_device *d) { return hmc5883l_next_event_ns(&d->u.hmc); }
+static void hmc_event(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns) {
+  hmc5883l_advance(&d->u.hmc, now_ns);
+  if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)hmc5883l_drdy_level(&d->u.hmc));
+}
+static int hmc_i2c_write(struct mcu_device *d, const uint8_t *data, uint8_t length, int64_t t_ns) {
+  return hmc5883l_i2c_write(&d->u.hmc, data, length, t_ns);
+}
+static int hmc_i2c_read(struct mcu_device *d, uint8_t *data, uint8_t length, int64_t t_ns) {
+  return hmc5883l_i2c_read(&d->u.hmc, data, length, t_ns);
+}
+
+static void qmc_start(struct mcu_device *d, const struct sear_link_input *in) {
+  struct qmc5883l_config c;
+  qmc5883l_default_config(&c);
+  c.seed = in->seed;
+  qmc5883l_init(&d->u.qmc, &c, 0);
+}
+static void qmc_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
+  (void)in;
+  qmc5883l_set_truth(&d->u.qmc, s->time_ns, s->value);
+}
+static int qmc_i2c_write(struct mcu_device *d, const uint8_t *data, uint8_t length, int64_t t_ns) {
+  return qmc5883l_i2c_write(&d->u.qmc, data, length, t_ns);
+}
+static int qmc_i2c_read(struct mcu_device *d, uint8_t *data, uint8_t length, int64_t t_ns) {
+  return qmc5883l_i2c_read(&d->u.qmc, data, length, t_ns);
+}
+
 static const struct device_ops kinds[SEAR_INPUT_KIND_END] = {
     [SEAR_INPUT_GP2D12] = {.sample = gp2d12_take},
     [SEAR_INPUT_GP2D15] = {.init = gp2d15_start, .sample = gp2d15_take},
     [SEAR_INPUT_SWITCH] = {.sample = switch_take},
-    [SEAR_INPUT_HCSR04] = {.init = hcsr04_start, .sample = hcsr04_take, .pin_written = hcsr04_trig,
+    [SEAR_INPUT_HCSR04] = {.listens = 1, .init = hcsr04_start, .sample = hcsr04_take, .pin_written = hcsr04_trig,
                            .next_event = hcsr04_next, .run_event = hcsr04_edge},
     [SEAR_INPUT_MAXBOTIX] = {.init = maxbotix_start, .sample = maxbotix_take, .next_event = maxbotix_next,
                              .run_event = maxbotix_event},
     [SEAR_INPUT_ENCODER] = {.init = encoder_start, .sample = encoder_take, .next_event = encoder_next,
                             .run_event = encoder_edge},
+    [SEAR_INPUT_MPU6000] = {.listens = 1, .init = mpu6000_start, .sample = mpu_take, .pin_written = mpu_cs,
+                            .next_event = mpu_next, .run_event = mpu_event, .spi_cs_slot = 0, .spi_transfer = mpu_spi},
+    [SEAR_INPUT_MPU6050] = {.init = mpu6050_start, .sample = mpu_take, .next_event = mpu_next, .run_event = mpu_event,
+                            .i2c_address_slot = 0, .i2c_write = mpu_i2c_write, .i2c_read = mpu_i2c_read},
+    [SEAR_INPUT_HMC5883L] = {.init = hmc_start, .sample = hmc_take, .next_event = hmc_next, .run_event = hmc_event,
+                             .i2c_address_slot = 0, .i2c_write = hmc_i2c_write, .i2c_read = hmc_i2c_read},
+    [SEAR_INPUT_QMC5883L] = {.init = qmc_start, .sample = qmc_take, .i2c_address_slot = 0, .i2c_write = qmc_i2c_write,
+                             .i2c_read = qmc_i2c_read},
 };
 
 static uint32_t input_count(void) {
@@ -148,9 +243,8 @@ void mcu_devices_init(void) {
     const struct sear_link_input *in = &sear_mcu.link->inputs[i];
     if (ops_of(i)->init) ops_of(i)->init(&sear_mcu.devices[i], in);
     /* A device that listens to a pin the firmware drives is told of every level it writes there. */
-    if (ops_of(i)->pin_written)
-      for (int p = 0; p < SEAR_LINK_INPUT_PINS; ++p)
-        if (in->pins[p] < SEAR_LINK_PINS) sear_mcu.pin_device[in->pins[p]] = (uint8_t)i;
+    for (int p = 0; p < SEAR_LINK_INPUT_PINS; ++p)
+      if ((ops_of(i)->listens >> p & 1) && in->pins[p] < SEAR_LINK_PINS) sear_mcu.pin_device[in->pins[p]] = (uint8_t)i;
   }
 }
 

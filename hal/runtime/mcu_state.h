@@ -8,7 +8,10 @@
 #include <stdint.h>
 
 #include "devices/hcsr04.h"
+#include "devices/hmc5883l.h"
 #include "devices/maxbotix_lv_ez.h"
+#include "devices/mpu6000.h"
+#include "devices/qmc5883l.h"
 #include "devices/quadrature_encoder.h"
 #include "devices/sharp_gp2d15.h"
 #include "lockstep_link.h"
@@ -25,6 +28,9 @@ struct mcu_device {
     struct hcsr04 hcsr04;
     struct maxbotix_lv_ez maxbotix;
     struct quadrature_encoder encoder;
+    struct mpu6000 mpu;
+    struct hmc5883l hmc;
+    struct qmc5883l qmc;
   } u;
   int64_t analog_shown_ns; /* an analog output's last update */
 };

@@ -11,7 +11,13 @@
   X(hcsr04)                  \
   X(maxbotix_lv_ez)          \
   X(lms2xx)                  \
-  X(quadrature_encoder)
+  X(quadrature_encoder)      \
+  X(mpu6000)                 \
+  X(mpu6050)                 \
+  X(hmc5883l)                \
+  X(qmc5883l)                \
+  X(ublox_neo6m)             \
+  X(mtk3339)
 
 namespace sear {
 

@@ -23,10 +23,10 @@ class Hcsr04 : public SimDevice {
     input_ = host.add_input(in);
   }
   void sample(const SenseContext& c, SampleSink& sink) override {
-    for (std::int64_t k = (c.t0_ns + kTruthPeriodNs - 1) / kTruthPeriodNs; k * kTruthPeriodNs < c.t1_ns; ++k) {
+    for_each_tick(kTruthPeriodNs, c, [&](std::int64_t k) {
       const RangeReading r = sensor_.measure(c.physics, c.chassis, c.self_entity);
       sink.add(k * kTruthPeriodNs, static_cast<std::uint64_t>(k), input_, {r.hit ? r.distance_m : INFINITY});
-    }
+    });
   }
 
  private:

@@ -32,10 +32,10 @@ class SharpRanger : public SimDevice {
   // Measurements on the sensor's own cycle, k * period; the world between steps is taken as it
   // is at the step's start.
   void sample(const SenseContext& c, SampleSink& sink) override {
-    for (std::int64_t k = (c.t0_ns + kPeriod - 1) / kPeriod; k * kPeriod < c.t1_ns; ++k) {
+    for_each_tick(kPeriod, c, [&](std::int64_t k) {
       const RangeReading r = sensor_.measure(c.physics, c.chassis, c.self_entity);
       sink.add(k * kPeriod, static_cast<std::uint64_t>(k), input_, {r.hit ? r.distance_m : INFINITY});
-    }
+    });
   }
 
  private:

@@ -28,6 +28,12 @@ struct SenseContext {
   std::int64_t t1_ns;
 };
 
+// Calls measure(k) for every tick k of a device's own cycle (k * period_ns) in the quantum.
+template <class Measure>
+void for_each_tick(std::int64_t period_ns, const SenseContext& c, Measure measure) {
+  for (std::int64_t k = (c.t0_ns + period_ns - 1) / period_ns; k * period_ns < c.t1_ns; ++k) measure(k);
+}
+
 // Samples of truth for the firmware's process, collected for one quantum.
 class SampleSink {
  public:

@@ -32,7 +32,7 @@ McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id
       if (d.kind->wires[w].kind == WireKind::UartPort && devices_[i]->uart()) {
         UartDevice* device = devices_[i]->uart();
         serial_.push_back({device, static_cast<std::uint8_t>(d.wires[w]), SerialWire(false),
-                           SerialWire(device->inverted()), device->baud()});
+                           SerialWire(device->inverted()), device->baud(), 0});
         serial_.back().to_device.set_receiver_baud(device->baud(), 0);
       }
     }
@@ -40,6 +40,8 @@ McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id
   if (inputs_.size() > SEAR_LINK_MAX_INPUTS)  // the loader already said where
     throw std::runtime_error(fmt::format("mcu {}: more than {} inputs", id_, SEAR_LINK_MAX_INPUTS));
   receive_next_.assign(desc_.uarts.size(), 0);
+  // More than any device sends in a quantum at 2 Mbaud; sized once, as it is asked for every quantum.
+  if (!serial_.empty()) sent_bytes_.resize(4096);
   McuProcessOptions process;
   process.hang_timeout_s = options.hang_timeout_s;
   process.call_cost_ns = call_cost_ns(desc_);
@@ -88,25 +90,25 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
   process_->start_quantum(t1);
 }
 
-void McuBridge::note_device_baud(SerialLink& s) {
+void McuBridge::note_device_baud(SerialLink& s, std::int64_t now_ns) {
   if (s.device->baud() == s.device_baud) return;
   s.device_baud = s.device->baud();
-  s.to_device.set_receiver_baud(s.device_baud, s.device->baud_since_ns());
+  // A device that cannot say when learnt it now; changes go to the line in time order.
+  s.baud_since_ns = std::max(s.baud_since_ns, s.device->baud_since_ns() > 0 ? s.device->baud_since_ns() : now_ns);
+  s.to_device.set_receiver_baud(s.device_baud, s.baud_since_ns);
 }
 
 std::uint32_t McuBridge::exchange_serial(std::int64_t t0, std::int64_t t1, sear_link& link, std::uint32_t rx_count) {
-  constexpr std::size_t kChunk = 4096;  // more than any device sends in a quantum at 2 Mbaud
   for (SerialLink& s : serial_) {
     // What the firmware sent up to t0 reaches the device, at the rate it listens at.
-    note_device_baud(s);
+    note_device_baud(s, t0);
     line_bytes_.clear();
     s.to_device.receive_until(t0, line_bytes_);
     for (const serial_byte& b : line_bytes_) s.device->receive(b);
     // Its answers, no earlier than t0: the firmware's clock is there already.
-    line_bytes_.resize(kChunk);
-    const std::size_t n = s.device->transmit(t0, t1, line_bytes_.data(), kChunk);
-    for (std::size_t i = 0; i < n; ++i) s.to_mcu.send(line_bytes_[i]);
-    note_device_baud(s);  // a reply sent just now may have switched it
+    const std::size_t n = s.device->transmit(t0, t1, sent_bytes_.data(), sent_bytes_.size());
+    for (std::size_t i = 0; i < n; ++i) s.to_mcu.send(sent_bytes_[i]);
+    note_device_baud(s, t0);  // a reply sent just now may have switched it
     line_bytes_.clear();
     s.to_mcu.receive_until(t1, line_bytes_);
     for (const serial_byte& b : line_bytes_) {

@@ -85,13 +85,15 @@ class McuBridge {
     SerialWire to_device;  // the firmware's TX as the device's receiver reads it
     SerialWire to_mcu;     // the device's TX as the port's receiver reads it
     std::uint32_t device_baud;
+    std::int64_t baud_since_ns;
   };
   std::vector<SerialLink> serial_;
   // Tells the line into the device of a rate the device took up, from the instant it did.
-  static void note_device_baud(SerialLink& s);
+  static void note_device_baud(SerialLink& s, std::int64_t now_ns);
   std::array<std::uint32_t, SEAR_LINK_UARTS> port_baud_{};  // the firmware's rate per port, 0 until begun
   std::array<int, SEAR_LINK_PINS> pin_listener_{};          // the device told of writes to a pin, or -1
-  std::vector<serial_byte> line_bytes_;                     // scratch, per exchange
+  std::vector<serial_byte> line_bytes_;                     // scratch, per exchange: decoded bytes
+  std::vector<serial_byte> sent_bytes_;                     // scratch: what a device sends in a quantum
 };
 
 }  // namespace sear

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -101,7 +102,11 @@ struct WorldDesc {
   // slopes), at a cost per step roughly proportional to it.
   int solver_iterations = 20;
   GeoPoint gps_origin{0, 0, 0};
-  double magnetic_declination_rad = 0;  // east of true north is positive
+  // The Earth's field as <magnetic> gives it; NaN: from the World Magnetic Model at the GPS origin.
+  double magnetic_declination_rad = NAN;  // east of true north is positive
+  double magnetic_inclination_rad = NAN;  // below the horizon is positive
+  double magnetic_intensity_T = NAN;
+  double magnetic_year = 2026.0;          // the decimal year the model is evaluated for
   std::vector<Material> materials;      // always holds "default"
   TerrainDesc terrain;
   std::vector<BoxDesc> boxes;

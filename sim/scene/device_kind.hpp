@@ -13,7 +13,7 @@ namespace sear {
 
 struct DeviceDesc;
 class SimDevice;
-struct DeviceHost;
+class DeviceHost;
 
 // What a wiring attribute names on the MCU.
 enum class WireKind {
@@ -42,6 +42,7 @@ struct DeviceParam {
   const char* meaning;
   std::vector<std::string> choices = {};  // Choice
   double to_si = 1;                        // file unit to SI: kDegToRad for degrees
+  const char* fallback_text = nullptr;     // Name: the text when absent; null: required
 };
 
 // How a kind is placed on its robot.

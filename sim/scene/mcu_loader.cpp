@@ -81,7 +81,7 @@ DeviceDesc read_device(ElementReader& r, const DeviceKind& kind) {
         break;
       case DeviceParam::Type::Name:
       case DeviceParam::Type::Wheel:
-        text = r.required_text(p.attribute).value_or("");
+        text = p.fallback_text ? r.text(p.attribute, p.fallback_text) : r.required_text(p.attribute).value_or("");
         break;
     }
     d.values.push_back(p.type == DeviceParam::Type::Choice ? value : value * p.to_si);

@@ -35,6 +35,11 @@ inline const Range kLongitude = Range::between(-180, 180, "-180..180 degrees");
 // From the deepest ocean floor (-10 935 m) to the edge of space (100 km).
 inline const Range kAltitude = Range::between(-11000, 100000, "-11000..100000 m");
 inline const Range kDeclination = Range::between(-180, 180, "-180..180 degrees");
+inline const Range kInclination = Range::between(-90, 90, "-90..90 degrees");
+// The Earth's field lies between about 22 000 nT (South Atlantic) and 67 000 nT (the poles).
+inline const Range kFieldIntensity = Range::between(1000, 100000, "1000..100000 nT");
+// The World Magnetic Model's coefficients are for 2025-2030; a few years either side still holds.
+inline const Range kMagneticYear = Range::between(2020, 2035, "2020..2035");
 // Coulomb coefficients of real pairs stay below about 2 (rubber on dry concrete ~1, silicone on
 // glass up to ~3); 10 leaves room for "never slips" while catching a slipped decimal point.
 inline const Range kFriction = Range::between(0, 10, "0..10");

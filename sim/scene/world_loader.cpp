@@ -78,7 +78,11 @@ void read_world(const tinyxml2::XMLElement& element, const std::string& file, Di
                  world.gps_origin.altitude_m = c.number("altitude", 0.0, ranges::kAltitude, "m");
                } else if (kind == "magnetic") {
                  world.magnetic_declination_rad =
-                     c.number("declination_deg", 0.0, ranges::kDeclination, "deg") * kDegToRad;
+                     c.number("declination_deg", NAN, ranges::kDeclination, "deg") * kDegToRad;
+                 world.magnetic_inclination_rad =
+                     c.number("inclination_deg", NAN, ranges::kInclination, "deg") * kDegToRad;
+                 world.magnetic_intensity_T = c.number("intensity_nt", NAN, ranges::kFieldIntensity, "nT") * 1e-9;
+                 world.magnetic_year = c.number("year", world.magnetic_year, ranges::kMagneticYear);
                } else if (kind == "material") {
                  const Material m = read_material_element(c);
                  if (m.name.empty()) return;

@@ -8,6 +8,8 @@
 #include <string>
 #include <utility>
 
+#include "sensors/ray_geometry.hpp"
+
 namespace sear {
 namespace {
 
@@ -18,29 +20,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // many hills. Other geoms report at most one contact per ray.
 constexpr int kMaxContacts = 32;
 
-// Leaves room for rounding in ODE's boxes and in the slab test, so that no true hit is culled.
-constexpr double kAabbSlack_m = 1e-6;
-
-// Whether the segment origin + t dir, t in [0, length], meets the box; the cheap test that spares
-// the exact collider most rays. Infinite bounds (a plane's) work: no 0 * inf arises.
-bool segment_meets_box(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double length,
-                       const double aabb[6]) {
-  double enter = 0, leave = length;
-  for (int axis = 0; axis < 3; ++axis) {
-    const double lo = aabb[2 * axis] - kAabbSlack_m, hi = aabb[2 * axis + 1] + kAabbSlack_m;
-    const double o = origin[axis], d = dir[axis];
-    if (d == 0) {
-      if (o < lo || o > hi) return false;
-      continue;
-    }
-    double t0 = (lo - o) / d, t1 = (hi - o) / d;
-    if (t0 > t1) std::swap(t0, t1);
-    enter = std::max(enter, t0);
-    leave = std::min(leave, t1);
-    if (enter > leave) return false;
-  }
-  return true;
-}
+using detail::kAabbSlack_m;
+using detail::segment_meets_box;
 
 std::size_t cone_count(double half_angle, double resolution) {
   // The small margin keeps alpha = k delta from gaining a degenerate cone of half-angle ~1e-17.
@@ -84,23 +65,10 @@ bool ode_ray(dGeomID ray, const Eigen::Vector3d& origin, const Eigen::Vector3d& 
     // Only a hit closer than the best so far can change the answer: each hit shortens the ray.
     dGeomRaySetLength(ray, limit);
     const int n = dCollide(ray, c.geom, kMaxContacts, contacts, sizeof(dContactGeom));
-    for (int k = 0; k < n; ++k) {
-      // Distance from the contact point rather than ODE's depth: a heightfield's contact for a
-      // ray wholly below it carries a penetration depth, not a distance along the ray.
-      const Eigen::Vector3d point(contacts[k].pos[0], contacts[k].pos[1], contacts[k].pos[2]);
-      const double t = (point - origin).dot(dir);
-      if (!(t >= 0 && t <= limit)) continue;
-      if ((found || out.hit) && t >= out.distance_m) continue;
-      const Eigen::Vector3d normal(contacts[k].normal[0], contacts[k].normal[1], contacts[k].normal[2]);
-      found = true;
-      out.hit = true;
-      out.distance_m = t;
-      out.point_m = point;
-      out.normal_m = normal.dot(dir) > 0 ? Eigen::Vector3d(-normal) : normal;
-      out.entity = c.entity;
-      limit = t;
-      if (first_hit_will_do) return true;
-    }
+    if (!detail::take_nearest_contact(contacts, n, origin, dir, limit, c.entity, first_hit_will_do, out)) continue;
+    found = true;
+    limit = out.distance_m;
+    if (first_hit_will_do) return true;
   }
   return found;
 }
@@ -328,6 +296,26 @@ RangeReading RangeSensor::measure(const PhysicsWorld& physics, const Eigen::Vect
     reading = nearest_echo(scene, origin, candidates_, ignore_entity);
   } else {
     reading = cast(origin, candidates_, false, nearest_static(scene, origin, ignore_entity));
+  }
+  reading.below_min = reading.hit && reading.distance_m < beam_.min_range_m;
+  return reading;
+}
+
+RangeReading RangeSensor::measure_ode_only(const PhysicsWorld& physics, const Eigen::Vector3d& mount_position_m,
+                                           const Eigen::Matrix3d& mount_rotation, int ignore_entity) const {
+  double bounds[6] = {kInf, -kInf, kInf, -kInf, kInf, -kInf};
+  const Eigen::Vector3d origin = place(mount_position_m, mount_rotation, bounds);
+  candidates_.clear();
+  gather(physics.static_space(), bounds, ignore_entity, candidates_);
+  gather(physics.dynamic_space(), bounds, ignore_entity, candidates_);
+  RangeReading reading;
+  reading.distance_m = beam_.max_range_m;
+  const double min_cos = std::cos(beam_.max_incidence_rad);
+  for (const Eigen::Vector3d& dir : world_directions_) {
+    RayHit h;
+    if (!ode_ray(ray(), origin, dir, candidates_, beam_.max_range_m, false, h)) continue;
+    if (beam_.max_incidence_rad < 0.5 * kPi && std::abs(h.normal_m.dot(dir)) < min_cos) continue;
+    if (!reading.hit || h.distance_m < reading.distance_m) take(reading, h);
   }
   reading.below_min = reading.hit && reading.distance_m < beam_.min_range_m;
   return reading;

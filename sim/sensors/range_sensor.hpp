@@ -99,6 +99,10 @@ class RangeSensor {
   // The same with the mount's pose in the world given directly (a sensor on a pan servo).
   RangeReading measure(const PhysicsWorld& physics, const Eigen::Vector3d& mount_position_m,
                        const Eigen::Matrix3d& mount_rotation, int ignore_entity) const;
+  // The same through ODE alone, every ray against every geom of both spaces whose box it meets:
+  // the path before the BVH, kept as the reference for tests and benchmarks.
+  RangeReading measure_ode_only(const PhysicsWorld& physics, const Eigen::Vector3d& mount_position_m,
+                                const Eigen::Matrix3d& mount_rotation, int ignore_entity) const;
 
  private:
   friend class RangeSensorSet;

@@ -10,13 +10,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "sensors/ray_geometry.hpp"
+
 namespace sear {
 namespace {
 
 constexpr float kInfF = std::numeric_limits<float>::infinity();
-
-// Room for rounding in ODE's boxes and in the slab test, so that no true hit is culled.
-constexpr double kAabbSlack_m = 1e-6;
 
 // A shape beyond this from the origin has no bounds Embree can hold: an infinite plane is cut here.
 constexpr double kWorldReach_m = 1e5;
@@ -49,25 +48,6 @@ struct CastContext {
   RTCIntersectContext rtc;
   int ignore_entity;
 };
-
-bool segment_meets_box(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double length,
-                       const double aabb[6]) {
-  double enter = 0, leave = length;
-  for (int axis = 0; axis < 3; ++axis) {
-    const double lo = aabb[2 * axis] - kAabbSlack_m, hi = aabb[2 * axis + 1] + kAabbSlack_m;
-    const double o = origin[axis], d = dir[axis];
-    if (d == 0) {
-      if (o < lo || o > hi) return false;
-      continue;
-    }
-    double t0 = (lo - o) / d, t1 = (hi - o) / d;
-    if (t0 > t1) std::swap(t0, t1);
-    enter = std::max(enter, t0);
-    leave = std::min(leave, t1);
-    if (enter > leave) return false;
-  }
-  return true;
-}
 
 Eigen::Matrix3d rotation_of(dGeomID geom) {
   const dReal* r = dGeomGetRotation(geom);  // 3x4, row-major
@@ -261,8 +241,8 @@ void skip_ignored(const RTCFilterFunctionNArguments* args) {
   for (unsigned i = 0; i < args->N; ++i) args->valid[i] = 0;
 }
 
-// Casts rays lane by lane through rtcIntersect16: `fill(i, o, d)` gives ray i, `take(i, t, geom,
-// prim)` its answer (t = INFINITY for none).
+// Casts rays 16 at a time through rtcIntersect16 (one or two alone): `fill(i, o, d)` gives ray i,
+// `take(i, t, geom, prim)` its answer (t = INFINITY for none).
 template <typename Fill, typename Take>
 void cast_packets(RTCScene scene, std::size_t count, double reach_m, int ignore_entity, Fill&& fill, Take&& take) {
   CastContext context;
@@ -271,6 +251,33 @@ void cast_packets(RTCScene scene, std::size_t count, double reach_m, int ignore_
   context.rtc.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   context.ignore_entity = ignore_entity;
   const auto reach = static_cast<float>(reach_m);
+  if (count <= 2) {
+    // A lone ray (a lever's, a single-ray ranger's) costs less alone than in a packet of 16.
+    context.rtc.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    for (std::size_t i = 0; i < count; ++i) {
+      RTCRayHit single;
+      float o[3], d[3];
+      fill(i, o, d);
+      single.ray.org_x = o[0];
+      single.ray.org_y = o[1];
+      single.ray.org_z = o[2];
+      single.ray.dir_x = d[0];
+      single.ray.dir_y = d[1];
+      single.ray.dir_z = d[2];
+      single.ray.tnear = 0;
+      single.ray.tfar = reach;
+      single.ray.time = 0;
+      single.ray.mask = ~0u;
+      single.ray.id = 0;
+      single.ray.flags = 0;
+      single.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      single.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene, &context.rtc, &single);
+      const bool hit = single.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+      take(i, hit ? single.ray.tfar : kInfF, single.hit.geomID, single.hit.primID);
+    }
+    return;
+  }
   alignas(64) int valid[16];
   RTCRayHit16 packet;
   for (std::size_t first = 0; first < count; first += 16) {
@@ -600,13 +607,8 @@ bool heightfield_hit(const RayScene::Item& item, const Eigen::Vector3d& origin, 
         const Eigen::Vector3d world = item.rotation * (p - corner) + item.position;
         const double t = (world - origin).dot(dir);
         if (!(t >= 0 && t <= limit) || ((found || out.hit) && t >= out.distance_m)) continue;
-        const Eigen::Vector3d normal = item.rotation * n;
+        detail::record_hit(out, t, world, item.rotation * n, dir, item.entity);
         found = true;
-        out.hit = true;
-        out.distance_m = t;
-        out.point_m = world;
-        out.normal_m = normal.dot(dir) > 0 ? Eigen::Vector3d(-normal) : normal;
-        out.entity = item.entity;
       }
     }
   return found;
@@ -623,22 +625,7 @@ bool RayScene::exact(const StaticGeom& g, const Eigen::Vector3d& origin, const E
   dGeomRaySet(ray_, origin.x(), origin.y(), origin.z(), dir.x(), dir.y(), dir.z());
   dContactGeom contacts[kMaxContacts];
   const int n = dCollide(ray_, g.geom, kMaxContacts, contacts, sizeof(dContactGeom));
-  bool found = false;
-  for (int k = 0; k < n; ++k) {
-    // From the contact point rather than ODE's depth: a heightfield's contact for a ray wholly
-    // below it carries a penetration depth, not a distance along the ray.
-    const Eigen::Vector3d point(contacts[k].pos[0], contacts[k].pos[1], contacts[k].pos[2]);
-    const double t = (point - origin).dot(dir);
-    if (!(t >= 0 && t <= limit_m) || ((found || out.hit) && t >= out.distance_m)) continue;
-    const Eigen::Vector3d normal(contacts[k].normal[0], contacts[k].normal[1], contacts[k].normal[2]);
-    found = true;
-    out.hit = true;
-    out.distance_m = t;
-    out.point_m = point;
-    out.normal_m = normal.dot(dir) > 0 ? Eigen::Vector3d(-normal) : normal;
-    out.entity = g.entity;
-  }
-  return found;
+  return detail::take_nearest_contact(contacts, n, origin, dir, limit_m, g.entity, false, out);
 }
 
 bool RayScene::refine(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double limit_m, const BvhHit& hit,
@@ -660,7 +647,7 @@ bool RayScene::refine(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
   for (const StaticGeom& g : all_) {
     if (g.geom == struck || (ignore_entity >= 0 && g.entity == ignore_entity)) continue;
     const Eigen::Vector3d start = origin + from * dir;
-    if (!segment_meets_box(start, dir, best.distance_m - from, g.aabb)) continue;
+    if (!detail::segment_meets_box(start, dir, best.distance_m - from, g.aabb)) continue;
     exact(g, origin, dir, from, best.distance_m, best);
   }
   out = best;
@@ -674,24 +661,11 @@ RayHit RayScene::ode_nearest(const Eigen::Vector3d& origin, const Eigen::Vector3
   dContactGeom contacts[kMaxContacts];
   for (const StaticGeom& g : all_) {
     if (ignore_entity >= 0 && g.entity == ignore_entity) continue;
-    if (!segment_meets_box(origin, dir, limit, g.aabb)) continue;
+    if (!detail::segment_meets_box(origin, dir, limit, g.aabb)) continue;
     dGeomRaySetLength(ray_, limit);
     dGeomRaySet(ray_, origin.x(), origin.y(), origin.z(), dir.x(), dir.y(), dir.z());
     const int n = dCollide(ray_, g.geom, kMaxContacts, contacts, sizeof(dContactGeom));
-    for (int k = 0; k < n; ++k) {
-      // From the contact point rather than ODE's depth: a heightfield's contact for a ray wholly
-      // below it carries a penetration depth, not a distance along the ray.
-      const Eigen::Vector3d point(contacts[k].pos[0], contacts[k].pos[1], contacts[k].pos[2]);
-      const double t = (point - origin).dot(dir);
-      if (!(t >= 0 && t <= limit) || (best.hit && t >= best.distance_m)) continue;
-      const Eigen::Vector3d normal(contacts[k].normal[0], contacts[k].normal[1], contacts[k].normal[2]);
-      best.hit = true;
-      best.distance_m = t;
-      best.point_m = point;
-      best.normal_m = normal.dot(dir) > 0 ? Eigen::Vector3d(-normal) : normal;
-      best.entity = g.entity;
-      limit = t;
-    }
+    if (detail::take_nearest_contact(contacts, n, origin, dir, limit, g.entity, false, best)) limit = best.distance_m;
   }
   return best;
 }

@@ -14,7 +14,7 @@ void build_project_firmware(ProjectDesc& project, bool quiet) {
   link_flags.push_back(SEAR_FIRMWARE_SANITIZE);
 #endif
   const FirmwareToolchain toolchain =
-      default_toolchain(SEAR_HAL_INCLUDE_DIR, {SEAR_HAL_RUNTIME_LIBRARY, SEAR_DEVICES_LIBRARY}, link_flags);
+      default_toolchain(SEAR_HAL_INCLUDE_DIR, {SEAR_HAL_RUNTIME_LIBRARY}, link_flags);
   for (auto& robot : project.robots) {
     for (auto& mcu : robot.mcus) {
       if (mcu.firmware_sources.empty()) continue;

@@ -37,7 +37,7 @@ std::string default_text(const DeviceParam& p) {
       for (std::size_t i = 0; i < p.choices.size(); ++i) all += (i ? " | " : "") + p.choices[i];
       return fmt::format("{} (default {})", all, p.choices.at(static_cast<std::size_t>(p.fallback)));
     }
-    case DeviceParam::Type::Name: return "text, required";
+    case DeviceParam::Type::Name: return p.fallback_text ? fmt::format("text (default {})", p.fallback_text) : "text, required";
     case DeviceParam::Type::Wheel: return "a wheel's name, required";
     default: return fmt::format("{:g} {} (default), {}", p.fallback, p.unit, p.range.text);
   }
