@@ -237,11 +237,18 @@ static const struct device_ops *ops_of(uint32_t input) {
   return kind < SEAR_INPUT_KIND_END ? &kinds[kind] : &kinds[0];
 }
 
+/* Every operation on a device may move its next event; the scheduler asks for the earliest one
+ * after nearly every HAL call, so each device's is kept here rather than worked out each time. */
+static void refresh(uint32_t i) {
+  sear_mcu.devices[i].next_ns = ops_of(i)->next_event ? ops_of(i)->next_event(&sear_mcu.devices[i]) : MCU_TIME_NEVER;
+}
+
 void mcu_devices_init(void) {
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) sear_mcu.pin_device[pin] = MCU_NO_DEVICE;
   for (uint32_t i = 0; i < input_count(); ++i) {
     const struct sear_link_input *in = &sear_mcu.link->inputs[i];
     if (ops_of(i)->init) ops_of(i)->init(&sear_mcu.devices[i], in);
+    refresh(i);
     /* A device that listens to a pin the firmware drives is told of every level it writes there. */
     for (int p = 0; p < SEAR_LINK_INPUT_PINS; ++p)
       if ((ops_of(i)->listens >> p & 1) && in->pins[p] < SEAR_LINK_PINS) sear_mcu.pin_device[in->pins[p]] = (uint8_t)i;
@@ -251,21 +258,20 @@ void mcu_devices_init(void) {
 void mcu_devices_sample(const struct sear_link_sample *s) {
   if (s->input >= input_count()) return;
   if (ops_of(s->input)->sample) ops_of(s->input)->sample(&sear_mcu.devices[s->input], &sear_mcu.link->inputs[s->input], s);
+  refresh(s->input);
 }
 
 void mcu_devices_pin_written(uint8_t pin, uint8_t level, int64_t t_ns) {
   const uint8_t i = sear_mcu.pin_device[pin];
   if (i == MCU_NO_DEVICE || i >= input_count() || !ops_of(i)->pin_written) return;
   ops_of(i)->pin_written(&sear_mcu.devices[i], &sear_mcu.link->inputs[i], pin, level, t_ns);
+  refresh(i);
 }
 
 int64_t mcu_devices_next_event(void) {
   int64_t t = MCU_TIME_NEVER;
-  for (uint32_t i = 0; i < input_count(); ++i) {
-    if (!ops_of(i)->next_event) continue;
-    const int64_t e = ops_of(i)->next_event(&sear_mcu.devices[i]);
-    if (e < t) t = e;
-  }
+  for (uint32_t i = 0; i < input_count(); ++i)
+    if (sear_mcu.devices[i].next_ns < t) t = sear_mcu.devices[i].next_ns;
   return t;
 }
 
@@ -274,15 +280,14 @@ void mcu_devices_run_due(int64_t now_ns) {
     int64_t t = MCU_TIME_NEVER;
     uint32_t which = 0;
     for (uint32_t i = 0; i < input_count(); ++i) {
-      if (!ops_of(i)->next_event) continue;
-      const int64_t e = ops_of(i)->next_event(&sear_mcu.devices[i]);
-      if (e < t) {
-        t = e;
+      if (sear_mcu.devices[i].next_ns < t) {
+        t = sear_mcu.devices[i].next_ns;
         which = i;
       }
     }
     if (t > now_ns) return;
     ops_of(which)->run_event(&sear_mcu.devices[which], &sear_mcu.link->inputs[which], t);
+    refresh(which);
   }
 }
 
@@ -295,6 +300,7 @@ int mcu_devices_spi_transfer(uint8_t mosi, uint32_t sck_hz, int64_t t_ns) {
     if (cs >= SEAR_LINK_PINS || sear_mcu.mode[cs] != OUTPUT || sear_mcu.latch[cs] != LOW) continue;
     /* Two selected devices drive MISO against each other: the bus reads their wired AND. */
     const uint8_t out = ops->spi_transfer(&sear_mcu.devices[i], mosi, sck_hz, t_ns);
+    refresh(i);
     miso = miso < 0 ? out : (miso & out);
   }
   return miso;
@@ -308,10 +314,16 @@ static int i2c_device(uint8_t address) {
 
 int mcu_devices_i2c_write(uint8_t address, const uint8_t *data, uint8_t length, int64_t t_ns) {
   const int i = i2c_device(address);
-  return i < 0 ? -1 : ops_of((uint32_t)i)->i2c_write(&sear_mcu.devices[i], data, length, t_ns);
+  if (i < 0) return -1;
+  const int acknowledged = ops_of((uint32_t)i)->i2c_write(&sear_mcu.devices[i], data, length, t_ns);
+  refresh((uint32_t)i);
+  return acknowledged;
 }
 
 int mcu_devices_i2c_read(uint8_t address, uint8_t *data, uint8_t length, int64_t t_ns) {
   const int i = i2c_device(address);
-  return i < 0 ? -1 : ops_of((uint32_t)i)->i2c_read(&sear_mcu.devices[i], data, length, t_ns);
+  if (i < 0) return -1;
+  const int acknowledged = ops_of((uint32_t)i)->i2c_read(&sear_mcu.devices[i], data, length, t_ns);
+  refresh((uint32_t)i);
+  return acknowledged;
 }

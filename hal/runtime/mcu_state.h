@@ -33,6 +33,7 @@ struct mcu_device {
     struct qmc5883l qmc;
   } u;
   int64_t analog_shown_ns; /* an analog output's last update */
+  int64_t next_ns;         /* its next event of its own (devices.c keeps it current) */
 };
 
 struct mcu_arrival {

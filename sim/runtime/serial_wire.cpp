@@ -104,6 +104,20 @@ int64_t SerialWire::next_falling_edge(int64_t from_ns, int64_t limit_ns) const {
 void SerialWire::decode(int64_t known_until_ns) {
   const int64_t none = std::numeric_limits<int64_t>::max();
   while (scan_from_ns_ < known_until_ns) {
+    // The common case, matching ends, without searching the line: the first frame still on it
+    // starts once the receiver hunts again (every frame before it is over, so the line idles at
+    // mark until its start bit), at the receiver's rate and in normal polarity. It is read as
+    // sent, exactly as the search below would read it.
+    if (!inverted_) {
+      const auto next = std::upper_bound(frames_.begin(), frames_.end(), scan_from_ns_,
+                                         [](int64_t t, const Frame& f) { return t < f.end_ns; });
+      if (next != frames_.end() && next->start_ns >= scan_from_ns_ && next->start_ns < known_until_ns &&
+          baud_at(next->start_ns) == next->baud) {
+        ready_.push_back(serial_byte{next->end_ns, next->baud, next->value, {0, 0, 0}});
+        scan_from_ns_ = next->start_ns + bit32_ns(kHuntAgain32, next->baud);
+        continue;
+      }
+    }
     const int64_t t0 = next_falling_edge(scan_from_ns_, known_until_ns);
     if (t0 == none) {
       scan_from_ns_ = known_until_ns;  // no edge before the horizon; later ones are found later

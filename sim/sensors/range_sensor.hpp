@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -135,6 +136,7 @@ class RangeSensor {
   mutable std::vector<Eigen::Vector3d> world_directions_;  // per call, sized once
   mutable std::vector<Candidate> candidates_;              // geoms near the beam, per call
   mutable std::vector<BvhHit> bvh_hits_;                   // per call, sized once
+  mutable std::vector<std::uint32_t> ray_order_;           // per call: rays nearest surface first
 };
 
 // Beams on one mount that are asked together whether any of them touches something: a bump

@@ -14,6 +14,34 @@ char vcd_id(int pin) { return static_cast<char>('!' + pin); }
 
 std::string seconds(std::int64_t ns) { return fmt::format("{}.{:09d}", ns / 1000000000, ns % 1000000000); }
 
+// "S.NNNNNNNNN tx hh\n" into `line`, which has room for it. A port at 500 kbaud writes 50 000 of
+// these a simulated second: fmt, even compiled, took a fifth of the simulator's time there, and
+// these few digits by hand a small part of that. Times are never negative.
+std::string_view byte_line(char* line, std::int64_t time_ns, bool tx, std::uint8_t value) {
+  static const char hex[] = "0123456789abcdef";
+  char* p = line;
+  auto whole = static_cast<std::uint64_t>(time_ns / 1000000000);
+  auto fraction = static_cast<std::uint64_t>(time_ns % 1000000000);
+  char digits[20];
+  int n = 0;
+  do {
+    digits[n++] = static_cast<char>('0' + whole % 10);
+    whole /= 10;
+  } while (whole);
+  while (n) *p++ = digits[--n];
+  *p++ = '.';
+  for (int i = 8; i >= 0; --i, fraction /= 10) p[i] = static_cast<char>('0' + fraction % 10);
+  p += 9;
+  *p++ = ' ';
+  *p++ = tx ? 't' : 'r';
+  *p++ = 'x';
+  *p++ = ' ';
+  *p++ = hex[value >> 4];
+  *p++ = hex[value & 15];
+  *p++ = '\n';
+  return {line, static_cast<std::size_t>(p - line)};
+}
+
 }  // namespace
 
 McuCapture::McuCapture(std::string out_dir, std::vector<Mcu> mcus, bool echo, std::uint64_t max_file_bytes)
@@ -102,7 +130,8 @@ void McuCapture::write_event(State& s, const sear_event& e) {
       PortFiles& p = port(s, e.index);
       const auto byte = static_cast<char>(e.value);
       (tx ? p.raw_tx : p.raw_rx)->write(std::string_view(&byte, 1));
-      p.text->write(fmt::format("{} {} {:02x}\n", seconds(e.time_ns), tx ? "tx" : "rx", static_cast<unsigned>(e.value)));
+      char line[40];
+      p.text->write(byte_line(line, e.time_ns, tx, static_cast<std::uint8_t>(e.value)));
       if (tx && e.index == s.mcu.console_uart) console_byte(s, e.time_ns, static_cast<std::uint8_t>(e.value));
       break;
     }
