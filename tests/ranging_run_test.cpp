@@ -140,6 +140,19 @@ TEST(MaxbotixSerial, WithoutAnInverterTheUartReadsFramingGarbage) {
   EXPECT_GT(received, 0);
 }
 
+// A baud change is answered at the old rate and takes effect at the answer's last stop bit: a
+// host that switches its own port then and asks at once, within the same millisecond, is heard.
+TEST(Lms2xxRun, ARequestRightAfterABaudChangeIsHeardAtTheNewRate) {
+  TempDir dir;
+  const std::string mcu = std::string("    <mcu name=\"main\">\n      <firmware executable=\"") + BAUD_SWITCH_PROBE +
+                          "\"/>\n      <lms2xx name=\"lidar\" uart=\"1\" power_up=\"2\"/>\n    </mcu>\n";
+  const SearRun run = run_sear(dir, rover_project(mcu, "", 3.0));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.file("rover.main.console.log").find("mode change: 10 bytes, first 06; status at 500k: answered 06"),
+            std::string::npos)
+      << run.file("rover.main.console.log");
+}
+
 TEST(WallFollowerRun, ConsoleIsTheGoldenOneAndTheSameEveryRun) {
   TempDir dir;
   const std::string project = example_project("wall_follower");
