@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Whole-run real-time factor: what a user waits for. Runs `sear run` on
 #   default  the bundled default project: the reference rover, every sensor kind on one MCU
-#   nolidar  the same without its LMS200 (the firmware then sends the scanner requests nobody answers)
+#   onecore  the same with the simulator and its firmware sharing one core (taskset -c 0)
+#   nolidar  the reference rover without its LMS200 (its firmware then asks a scanner nobody answers)
 #   avoider  the default world with the obstacle avoider's rover (assets/projects/avoider_hills.xml)
 #   busy     the avoider beside one busy host process (`sh -c 'while :; do :; done'`, killed afterwards)
 #   two      two avoider rovers, each with its own MCU
@@ -28,7 +29,7 @@ fi
 [[ -x ${sear:-} ]] || { echo "run_rtf.sh: no sear binary (give its path)" >&2; exit 2; }
 RUNS=${RUNS:-3}
 DURATION=${DURATION:-20}
-SCENARIOS=${SCENARIOS:-"default nolidar avoider busy two eight"}
+SCENARIOS=${SCENARIOS:-"default onecore nolidar avoider busy two eight"}
 LOCK=${LOCK-/tmp/sear-build.lock}
 
 work=$(mktemp -d /tmp/sear-rtf.XXXXXX)
@@ -70,7 +71,8 @@ median() { sort -g | awk '{ v[NR] = $1 } END { if (NR % 2) print v[(NR + 1) / 2]
 
 run_scenario() {
   local name=$1 project=$2
-  local loop_rtfs=() whole_rtfs=() load
+  local loop_rtfs=() whole_rtfs=() load pin=()
+  [[ $name == onecore ]] && pin=(taskset -c 0)
   # One run first, not counted: it compiles the firmware into the cache and warms the page cache.
   "$sear" run "$project" --duration 0.1 --quiet --out "$work/warm" >/dev/null 2>&1 || true
   if [[ $name == busy ]]; then
@@ -82,7 +84,7 @@ run_scenario() {
   for ((i = 0; i < RUNS; ++i)); do
     local out="$work/$name.$i" t0 t1
     t0=$(date +%s.%N)
-    "$sear" run "$project" --duration "$DURATION" --quiet --out "$out" >/dev/null 2>"$work/err" ||
+    "${pin[@]}" "$sear" run "$project" --duration "$DURATION" --quiet --out "$out" >/dev/null 2>"$work/err" ||
       { echo "run_rtf.sh: $name run $i failed:" >&2; cat "$work/err" >&2; exit 1; }
     t1=$(date +%s.%N)
     loop_rtfs+=("$(jq -r .real_time_factor "$out/summary.json")")
@@ -108,7 +110,7 @@ echo "sear: $sear; $DURATION s simulated per run; $(nproc) cores; $(date -u '+%F
 printf '%-8s %6s %10s %10s   %s   %s\n' scenario runs "loop RTF" "whole RTF" "load avg (1/5/15 min) at start" "[each run's loop RTF]"
 for s in $SCENARIOS; do
   case $s in
-    default) project="$work/default.xml" ;;
+    default | onecore) project="$work/default.xml" ;;
     nolidar) project="$work/nolidar.xml" ;;
     avoider | busy) project="$work/avoider.xml" ;;
     two) project="$work/two.xml" ;;

@@ -70,6 +70,28 @@ TEST(Hcsr04Run, EchoWidthsGiveTheWallDistanceToTheDatasheetResolution) {
   expect_echoes_of_the_wall(run);
 }
 
+// Polled as most sketches do, with digital_read() and micros() in a loop: the echo's edges fall
+// due within the quantum of the TRIG pulse that starts it, and the loop sees each at once.
+TEST(Hcsr04Run, APolledEchoHasTheWidthOfTheDistance) {
+  TempDir dir;
+  const std::string mcu = std::string("    <mcu name=\"main\">\n      <firmware executable=\"") + ECHO_POLL_PROBE +
+                          "\"/>\n      <hcsr04 name=\"sonar\" trig=\"24\" echo=\"10\" pos=\"0.15 0 0.05\"/>\n    </mcu>\n";
+  const std::string wall = "    <wall name=\"target\" from=\"1.2 -2\" to=\"1.2 2\" height=\"0.5\" thickness=\"0.1\"/>\n";
+  const SearRun run = run_sear(dir, rover_project(mcu, wall, 1.0));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const double expected_us = 58.0 * (1.15 - (final_x(run) + 0.15)) * 100;
+  int echoes = 0;
+  for (const auto& line : lines_of(run.file("rover.main.console.log"))) {
+    unsigned long width = 0;
+    if (std::sscanf(line.c_str(), "%*s echo %lu us", &width) != 1) continue;
+    ++echoes;
+    // The model's 3-sigma noise (17.4 us) and the loop's sampling: a pass of the loop is two HAL
+    // calls, 6.25 us at the default cost, at each edge.
+    EXPECT_NEAR(static_cast<double>(width), expected_us, 17.4 + 2 * 6.25) << line;
+  }
+  EXPECT_GE(echoes, 10);
+}
+
 // The device models run in the firmware's own process, sealed behind the HAL: a firmware that
 // names its functions as they do (a likely choice for a driver of the same part) neither clashes
 // with them at link time nor takes their place.

@@ -22,6 +22,9 @@ struct device_ops {
   int i2c_address_slot;
   int (*i2c_write)(struct mcu_device *d, const uint8_t *data, uint8_t length, int64_t t_ns);
   int (*i2c_read)(struct mcu_device *d, uint8_t *data, uint8_t length, int64_t t_ns);
+  /* Puts the model's own output pins (an interrupt or data-ready line) on the board, after
+   * anything that may have moved them: its events, and the bus reads that clear them. */
+  void (*drive)(struct mcu_device *d, const struct sear_link_input *in);
 };
 
 static void gp2d12_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
@@ -133,7 +136,6 @@ static void mpu_start(struct mcu_device *d, const struct sear_link_input *in, en
     for (int a = 0; a < 3; ++a) c.gyro.turn_on_bias[a] = in->param[1];
   if (in->param[2] >= 0) c.accel.noise_density = in->param[2];
   mpu6000_init(&d->u.mpu, &c, 0);
-  if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)mpu6000_int_level(&d->u.mpu));
 }
 static void mpu6000_start(struct mcu_device *d, const struct sear_link_input *in) { mpu_start(d, in, MPU6000_VARIANT_6000); }
 static void mpu6050_start(struct mcu_device *d, const struct sear_link_input *in) { mpu_start(d, in, MPU6000_VARIANT_6050); }
@@ -152,7 +154,11 @@ static void mpu_cs(struct mcu_device *d, const struct sear_link_input *in, uint8
 static int64_t mpu_next(const struct mcu_device *d) { return mpu6000_next_event_ns(&d->u.mpu); }
 
 static void mpu_event(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns) {
+  (void)in;
   mpu6000_advance(&d->u.mpu, now_ns);
+}
+
+static void mpu_drive(struct mcu_device *d, const struct sear_link_input *in) {
   if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)mpu6000_int_level(&d->u.mpu));
 }
 
@@ -172,7 +178,6 @@ static void hmc_start(struct mcu_device *d, const struct sear_link_input *in) {
   hmc5883l_default_config(&c);
   c.seed = in->seed;
   hmc5883l_init(&d->u.hmc, &c, 0);
-  if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)hmc5883l_drdy_level(&d->u.hmc));
 }
 static void hmc_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
   (void)in;
@@ -180,7 +185,11 @@ static void hmc_take(struct mcu_device *d, const struct sear_link_input *in, con
 }
 static int64_t hmc_next(const struct mcu_device *d) { return hmc5883l_next_event_ns(&d->u.hmc); }
 static void hmc_event(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns) {
+  (void)in;
   hmc5883l_advance(&d->u.hmc, now_ns);
+}
+
+static void hmc_drive(struct mcu_device *d, const struct sear_link_input *in) {
   if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)hmc5883l_drdy_level(&d->u.hmc));
 }
 static int hmc_i2c_write(struct mcu_device *d, const uint8_t *data, uint8_t length, int64_t t_ns) {
@@ -218,11 +227,14 @@ static const struct device_ops kinds[SEAR_INPUT_KIND_END] = {
     [SEAR_INPUT_ENCODER] = {.init = encoder_start, .sample = encoder_take, .next_event = encoder_next,
                             .run_event = encoder_edge},
     [SEAR_INPUT_MPU6000] = {.listens = 1, .init = mpu6000_start, .sample = mpu_take, .pin_written = mpu_cs,
-                            .next_event = mpu_next, .run_event = mpu_event, .spi_cs_slot = 0, .spi_transfer = mpu_spi},
+                            .next_event = mpu_next, .run_event = mpu_event, .spi_cs_slot = 0, .spi_transfer = mpu_spi,
+                            .drive = mpu_drive},
     [SEAR_INPUT_MPU6050] = {.init = mpu6050_start, .sample = mpu_take, .next_event = mpu_next, .run_event = mpu_event,
-                            .i2c_address_slot = 0, .i2c_write = mpu_i2c_write, .i2c_read = mpu_i2c_read},
+                            .i2c_address_slot = 0, .i2c_write = mpu_i2c_write, .i2c_read = mpu_i2c_read,
+                            .drive = mpu_drive},
     [SEAR_INPUT_HMC5883L] = {.init = hmc_start, .sample = hmc_take, .next_event = hmc_next, .run_event = hmc_event,
-                             .i2c_address_slot = 0, .i2c_write = hmc_i2c_write, .i2c_read = hmc_i2c_read},
+                             .i2c_address_slot = 0, .i2c_write = hmc_i2c_write, .i2c_read = hmc_i2c_read,
+                             .drive = hmc_drive},
     [SEAR_INPUT_QMC5883L] = {.init = qmc_start, .sample = qmc_take, .i2c_address_slot = 0, .i2c_write = qmc_i2c_write,
                              .i2c_read = qmc_i2c_read},
 };
@@ -237,10 +249,14 @@ static const struct device_ops *ops_of(uint32_t input) {
   return kind < SEAR_INPUT_KIND_END ? &kinds[kind] : &kinds[0];
 }
 
-/* Every operation on a device may move its next event; the scheduler asks for the earliest one
- * after nearly every HAL call, so each device's is kept here rather than worked out each time. */
+/* After every operation on a device: its output pins follow its state, and its next event is
+ * kept here (the scheduler asks for the earliest after nearly every HAL call) and brought into
+ * the scheduler's next look at once, as a TRIG pulse's echo falls due within the same quantum. */
 static void refresh(uint32_t i) {
-  sear_mcu.devices[i].next_ns = ops_of(i)->next_event ? ops_of(i)->next_event(&sear_mcu.devices[i]) : MCU_TIME_NEVER;
+  struct mcu_device *d = &sear_mcu.devices[i];
+  if (ops_of(i)->drive) ops_of(i)->drive(d, &sear_mcu.link->inputs[i]);
+  d->next_ns = ops_of(i)->next_event ? ops_of(i)->next_event(d) : MCU_TIME_NEVER;
+  if (d->next_ns < sear_mcu.next_due_ns) sear_mcu.next_due_ns = d->next_ns;
 }
 
 void mcu_devices_init(void) {

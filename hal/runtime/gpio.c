@@ -10,12 +10,16 @@ void pin_mode(uint8_t pin, uint8_t mode) {
   if (mode == INPUT) sear_mcu.latch[pin] = LOW;
   if (mode == INPUT_PULLUP) sear_mcu.latch[pin] = HIGH;
   if (sear_mcu.mode[pin] == mode) return;
+  const int was_output = sear_mcu.mode[pin] == OUTPUT;
   sear_mcu.mode[pin] = mode;
   sear_mcu.pwm[pin] = 0;
   mcu_emit(SEAR_EVENT_PIN_MODE, pin, mode, now);
   if (mode == OUTPUT) {
     mcu_emit(SEAR_EVENT_PIN, pin, sear_mcu.latch[pin], now);
     mcu_devices_pin_written(pin, sear_mcu.latch[pin], now);
+  } else if (was_output) {
+    /* Let go: a device on the line (a chip select) now sees what the pull-up or nothing gives. */
+    mcu_devices_pin_written(pin, mcu_pin_level(pin), now);
   }
 }
 

@@ -17,7 +17,7 @@
 #include "lockstep_link.h"
 
 #define MCU_FLOATING 0xFF     /* nothing outside drives the pin */
-#define MCU_ARRIVALS 512      /* received bytes not yet due, per port */
+#define MCU_ARRIVALS 2048     /* received bytes not yet due, per port: a 10 ms quantum at 2 Mbaud */
 #define MCU_TIME_NEVER INT64_MAX
 #define MCU_NO_DEVICE 0xFF    /* no device listens to the pin */
 

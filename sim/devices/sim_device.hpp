@@ -72,8 +72,14 @@ class DeviceHost {
 // A link input with no pins wired and no figures yet.
 sear_link_input blank_input(sear_input_kind kind);
 
+// The bridge calls sample() at the start of every quantum and, for a device on a serial line, then
+// exchanges its bytes within the same call: a device may keep the context for that exchange, and
+// only for it. Devices are not copied (a UART device's model may point back at it).
 class SimDevice {
  public:
+  SimDevice() = default;
+  SimDevice(const SimDevice&) = delete;
+  SimDevice& operator=(const SimDevice&) = delete;
   virtual ~SimDevice() = default;
   // Measures what its model needs for [t0, t1) and adds the samples.
   virtual void sample(const SenseContext& context, SampleSink& sink) = 0;
