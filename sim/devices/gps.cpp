@@ -98,29 +98,23 @@ class Gps : public SimDevice, public UartDevice {
   const SenseContext* context_ = nullptr;  // set each quantum before the bridge asks for bytes
 };
 
-struct Ublox {
-  using Config = ublox_neo6m_config;
-  using Model = ublox_neo6m;
-  static void defaults(Config* c) { ublox_neo6m_defaults(c); }
-  static void init(Model* m, const Config* c, gnss_truth_source s, std::int64_t t) { ublox_neo6m_init(m, c, s, t); }
-  static void receive(Model* m, const serial_byte* b) { ublox_neo6m_receive(m, b); }
-  static std::size_t transmit(Model* m, std::int64_t now, std::int64_t until, serial_byte* out, std::size_t cap) {
-    return ublox_neo6m_transmit(m, now, until, out, cap);
-  }
-  static std::uint32_t baud(const Model* m) { return ublox_neo6m_baud(m); }
-};
-
-struct Mtk {
-  using Config = mtk3339_config;
-  using Model = mtk3339;
-  static void defaults(Config* c) { mtk3339_defaults(c); }
-  static void init(Model* m, const Config* c, gnss_truth_source s, std::int64_t t) { mtk3339_init(m, c, s, t); }
-  static void receive(Model* m, const serial_byte* b) { mtk3339_receive(m, b); }
-  static std::size_t transmit(Model* m, std::int64_t now, std::int64_t until, serial_byte* out, std::size_t cap) {
-    return mtk3339_transmit(m, now, until, out, cap);
-  }
-  static std::uint32_t baud(const Model* m) { return mtk3339_baud(m); }
-};
+// Each talker's C functions by the same names, so that Gps<> serves both; the two models share
+// one shape of API and differ only in their prefix.
+#define SEAR_GPS_TRAITS(Name, prefix)                                                                     \
+  struct Name {                                                                                           \
+    using Config = prefix##_config;                                                                       \
+    using Model = prefix;                                                                                 \
+    static void defaults(Config* c) { prefix##_defaults(c); }                                            \
+    static void init(Model* m, const Config* c, gnss_truth_source s, std::int64_t t) { prefix##_init(m, c, s, t); } \
+    static void receive(Model* m, const serial_byte* b) { prefix##_receive(m, b); }                      \
+    static std::size_t transmit(Model* m, std::int64_t now, std::int64_t until, serial_byte* out, std::size_t cap) { \
+      return prefix##_transmit(m, now, until, out, cap);                                                  \
+    }                                                                                                     \
+    static std::uint32_t baud(const Model* m) { return prefix##_baud(m); }                               \
+  };
+SEAR_GPS_TRAITS(Ublox, ublox_neo6m)
+SEAR_GPS_TRAITS(Mtk, mtk3339)
+#undef SEAR_GPS_TRAITS
 
 std::vector<DeviceParam> gps_params(double ttff_s) {
   using T = DeviceParam::Type;
