@@ -4,25 +4,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
 
 #include "scene/value_ranges.hpp"
 
 namespace sear {
 namespace {
-
-// The rays a beam of this half-angle and resolution casts, as RangeSensor lays them out, worked
-// out in doubles and capped, so that an absurd resolution is reported rather than counted.
-double beam_ray_count(double half_angle, double resolution) {
-  double total = 1;
-  if (!(half_angle > 0)) return total;
-  const double cones = std::ceil(half_angle / resolution - 1e-9);
-  for (double k = 0; k < cones && total <= 1e6; ++k) {
-    const double ratio = std::sin(0.5 * resolution) / std::sin(half_angle - k * resolution);
-    total += ratio < 1 ? std::max(3.0, std::ceil(M_PI / std::asin(ratio) - 1e-9)) : 3.0;
-  }
-  return total;
-}
 
 bool has_param(const DeviceDesc& d, const char* attribute) {
   return std::any_of(d.kind->params.begin(), d.kind->params.end(),
@@ -64,7 +50,7 @@ RangeBeam beam_of(const DeviceDesc& d) {
 }
 
 void check_beam(const DeviceDesc& d, ElementReader& r) {
-  const double rays = beam_ray_count(d.value("half_angle_deg"), d.value("resolution_deg"));
+  const double rays = RangeSensor::ray_count(d.value("half_angle_deg"), d.value("resolution_deg"));
   if (rays > static_cast<double>(RangeSensor::kMaxRays))
     r.error(fmt::format("<{}> half_angle_deg {:g} with resolution_deg {:g} needs {} rays per measurement; at most {} "
                         "(use a coarser resolution_deg)",

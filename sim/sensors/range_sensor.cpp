@@ -121,14 +121,33 @@ RayHit exact_static(const RayScene& scene, const Eigen::Vector3d& origin, const 
 
 void detail::RayDeleter::operator()(dGeomID ray) const { dGeomDestroy(ray); }
 
-int RangeSensor::rays_on_cone(double theta_rad, double resolution_rad) {
+namespace {
+
+// rays_on_cone() in doubles: an absurd resolution asks for more rays than an int holds.
+double rays_on_cone_count(double theta_rad, double resolution_rad) {
   // Neighbours 2 pi / n apart around a cone of half-angle theta are 2 asin(sin theta sin(pi / n))
   // apart in angle; setting that to delta and solving for n gives the count.
   const double ratio = std::sin(0.5 * resolution_rad) / std::sin(theta_rad);
   if (!(ratio < 1)) return 3;
   // The margin keeps a count that is a whole number but for rounding from gaining a ray.
-  const double n = std::ceil(kPi / std::asin(ratio) - 1e-9);
-  return std::max(3, static_cast<int>(n));
+  return std::max(3.0, std::ceil(kPi / std::asin(ratio) - 1e-9));
+}
+
+}  // namespace
+
+int RangeSensor::rays_on_cone(double theta_rad, double resolution_rad) {
+  return static_cast<int>(rays_on_cone_count(theta_rad, resolution_rad));
+}
+
+double RangeSensor::ray_count(double half_angle_rad, double resolution_rad) {
+  double total = 1;
+  if (!(half_angle_rad > 0)) return total;
+  // Counted in doubles and given up past a million, ten times what a beam may have, so that a
+  // refusal can say how many a beam asked for, and a resolution of 1e-300 is refused, not counted.
+  const double cones = std::ceil(half_angle_rad / resolution_rad - 1e-9);
+  for (double k = 0; k < cones && total <= 1e6; ++k)
+    total += rays_on_cone_count(half_angle_rad - k * resolution_rad, resolution_rad);
+  return total;
 }
 
 RangeSensor::RangeSensor(const RangeBeam& beam) : beam_(beam) {
@@ -141,20 +160,17 @@ RangeSensor::RangeSensor(const RangeBeam& beam) : beam_(beam) {
   if (!(beam.max_incidence_rad > 0 && beam.max_incidence_rad <= 0.5 * kPi + 1e-12))
     throw std::invalid_argument("range beam: max incidence must be in (0, 90] degrees");
 
-  const std::size_t cones = cone_count(beam.half_angle_rad, beam.resolution_rad);
-  std::size_t total = 1;
-  for (std::size_t k = 0; k < cones && total <= kMaxRays; ++k)
-    total += static_cast<std::size_t>(
-        rays_on_cone(beam.half_angle_rad - static_cast<double>(k) * beam.resolution_rad, beam.resolution_rad));
-  if (total > kMaxRays)
+  const double total = ray_count(beam.half_angle_rad, beam.resolution_rad);
+  if (total > static_cast<double>(kMaxRays))
     throw std::invalid_argument("range beam: half-angle and resolution call for more than " +
                                 std::to_string(kMaxRays) + " rays");
+  const std::size_t cones = cone_count(beam.half_angle_rad, beam.resolution_rad);
 
   // The pattern is built about +x, then turned by the mount's yaw and (downward-positive) pitch.
   const Eigen::Matrix3d mount = (Eigen::AngleAxisd(beam.yaw_rad, Eigen::Vector3d::UnitZ()) *
                                  Eigen::AngleAxisd(beam.pitch_rad, Eigen::Vector3d::UnitY()))
                                     .toRotationMatrix();
-  directions_.reserve(total);
+  directions_.reserve(static_cast<std::size_t>(total));
   directions_.push_back(mount * Eigen::Vector3d::UnitX());
   for (std::size_t k = 0; k < cones; ++k) {
     const double theta = beam.half_angle_rad - static_cast<double>(k) * beam.resolution_rad;

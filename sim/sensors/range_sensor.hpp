@@ -88,6 +88,10 @@ class RangeSensor {
   // at most delta apart, max(3, ceil(pi / asin(sin(delta / 2) / sin(theta)))). For small angles
   // that is about 2 pi theta / delta; where sin(theta) <= sin(delta / 2) it is 3.
   static int rays_on_cone(double theta_rad, double resolution_rad);
+  // Every ray of a beam of this half-angle and resolution, the axis included, exact up to a
+  // million; beyond, some number above a million. The constructor refuses beams of more than
+  // kMaxRays, and so can a project's loader before any world exists.
+  static double ray_count(double half_angle_rad, double resolution_rad);
 
   const RangeBeam& beam() const { return beam_; }
   // Unit ray directions in the mount frame (yaw and pitch applied); the first is the beam axis.
