@@ -79,7 +79,10 @@ void BM_HalCallWithoutExchange(benchmark::State& state) {
   for (auto _ : state) {
     ConsoleLine console;
     sear::Simulation sim(project, 1);
-    sear::Lockstep lockstep(sim, project, {"/tmp", 60, false}, console);
+    sear::LockstepOptions options;
+    options.out_dir = "/tmp";
+    options.mcu.hang_timeout_s = 60;
+    sear::Lockstep lockstep(sim, project, options, console);
     while (console.last.empty() && sim.time_ns() < 1'000'000'000) lockstep.step();
     std::smatch m;
     if (!std::regex_search(console.last, m, std::regex("ns per HAL call ([0-9.]+)"))) {

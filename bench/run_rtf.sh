@@ -7,6 +7,9 @@
 #   busy     the avoider beside one busy host process (`sh -c 'while :; do :; done'`, killed afterwards)
 #   two      two avoider rovers, each with its own MCU
 #   eight    eight such rovers
+#   lcm      the default project publishing everything on LCM (`--lcm`, default 100 Hz), each run in
+#            its own private network namespace (unshare -n, root) with multicast on its loopback;
+#            compare its loop RTF with default's: the target is a cost under 10 %
 # and prints, per scenario, the median over RUNS runs of the wall-clock real-time factor of the
 # stepping loop (summary.json's real_time_factor: simulated seconds per wall second, from the first
 # step to the last) and of the whole process (start-up, firmware from cache and loading included),
@@ -73,6 +76,9 @@ run_scenario() {
   local name=$1 project=$2
   local loop_rtfs=() whole_rtfs=() load pin=()
   [[ $name == onecore ]] && pin=(taskset -c 0)
+  local extra=()
+  [[ $name == lcm ]] && extra=(--lcm) && pin=(unshare -n sh -c \
+    'ip link set lo up && ip link set lo multicast on && ip route add 239.0.0.0/8 dev lo && exec "$@"' sh)
   # One run first, not counted: it compiles the firmware into the cache and warms the page cache.
   "$sear" run "$project" --duration 0.1 --quiet --out "$work/warm" >/dev/null 2>&1 || true
   if [[ $name == busy ]]; then
@@ -84,7 +90,7 @@ run_scenario() {
   for ((i = 0; i < RUNS; ++i)); do
     local out="$work/$name.$i" t0 t1
     t0=$(date +%s.%N)
-    "${pin[@]}" "$sear" run "$project" --duration "$DURATION" --quiet --out "$out" >/dev/null 2>"$work/err" ||
+    "${pin[@]}" "$sear" run "$project" --duration "$DURATION" --quiet --out "$out" "${extra[@]}" >/dev/null 2>"$work/err" ||
       { echo "run_rtf.sh: $name run $i failed:" >&2; cat "$work/err" >&2; exit 1; }
     t1=$(date +%s.%N)
     loop_rtfs+=("$(jq -r .real_time_factor "$out/summary.json")")
@@ -110,7 +116,7 @@ echo "sear: $sear; $DURATION s simulated per run; $(nproc) cores; $(date -u '+%F
 printf '%-8s %6s %10s %10s   %s   %s\n' scenario runs "loop RTF" "whole RTF" "load avg (1/5/15 min) at start" "[each run's loop RTF]"
 for s in $SCENARIOS; do
   case $s in
-    default | onecore) project="$work/default.xml" ;;
+    default | onecore | lcm) project="$work/default.xml" ;;
     nolidar) project="$work/nolidar.xml" ;;
     avoider | busy) project="$work/avoider.xml" ;;
     two) project="$work/two.xml" ;;

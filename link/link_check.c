@@ -96,13 +96,33 @@ int sear_link_check_event(const struct sear_link *link, uint32_t i, struct sear_
     case SEAR_EVENT_UART_RX:
       if (e->index >= SEAR_LINK_UARTS) FAIL("events[%u].index (port %u; the chip has 0..%d)", i, e->index, SEAR_LINK_UARTS - 1);
       break;
+    case SEAR_EVENT_CAN_BEGIN:
+    case SEAR_EVENT_CAN_TX:
+    case SEAR_EVENT_CAN_DATA:
+      break;
     default:
       FAIL("events[%u].kind (%u, not an event the HAL writes)", i, e->kind);
   }
+  /* A frame's data follows its CAN_TX at once, in order, even across a drain. */
+  if (w->can_data_due && (e->kind != SEAR_EVENT_CAN_DATA || e->index != 2 - w->can_data_due))
+    FAIL("events[%u] (kind %u index %u where the data of a CAN frame was due)", i, e->kind, e->index);
+  if (e->kind == SEAR_EVENT_CAN_DATA && !w->can_data_due)
+    FAIL("events[%u] (CAN data with no frame before it)", i);
+  if (e->kind == SEAR_EVENT_CAN_TX) {
+    const unsigned dlc = e->index & 15u, flags = e->index >> 4;
+    const uint32_t top = flags & SEAR_CAN_EXTENDED ? 0x1FFFFFFFu : 0x7FFu;
+    if (dlc > 8 || flags > 3 || e->value > top)
+      FAIL("events[%u] (a CAN frame with id 0x%x, dlc %u, flags %u)", i, e->value, dlc, flags);
+    w->can_data_due = 2;
+  } else if (e->kind == SEAR_EVENT_CAN_DATA) {
+    w->can_data_due--;
+  }
+  if (e->kind == SEAR_EVENT_CAN_BEGIN && e->index != 0) FAIL("events[%u].index (%u, CAN has one controller)", i, e->index);
   const uint32_t v = e->value;
   if ((e->kind == SEAR_EVENT_PIN && v > 1) || (e->kind == SEAR_EVENT_PIN_MODE && v > 2) ||
       (e->kind == SEAR_EVENT_PWM && v > 255) || (e->kind == SEAR_EVENT_SERVO && v > 2600) ||
       (e->kind == SEAR_EVENT_UART_BEGIN && (v < 300 || v > 2000000)) ||
+      (e->kind == SEAR_EVENT_CAN_BEGIN && (v < 10000 || v > 1000000)) ||
       ((e->kind == SEAR_EVENT_UART_TX || e->kind == SEAR_EVENT_UART_RX) && v > 255))
     FAIL("events[%u].value (%u, out of range for its kind %u)", i, v, e->kind);
   if (e->time_ns < 0) FAIL("events[%u].time_ns (%lld ns, negative)", i, (long long)e->time_ns);

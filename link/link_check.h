@@ -24,6 +24,7 @@ struct sear_link_watch {
   int64_t last_event_ns;   /* of pin, PWM, servo and port-start events, which come in time order */
   int64_t last_tx_ns[SEAR_LINK_UARTS];
   int64_t last_rx_ns[SEAR_LINK_UARTS];
+  uint32_t can_data_due;   /* CAN_DATA events still owed by the last CAN_TX (2, 1 or 0) */
 };
 
 /* What the firmware reported when it handed the turn back, once checked. */

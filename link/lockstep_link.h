@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #define SEAR_LINK_MAGIC 0x52414553u /* "SEAR" little-endian */
-#define SEAR_LINK_VERSION 3u
+#define SEAR_LINK_VERSION 4u
 /* Guards at both ends of the firmware's writable part: a stray write that runs over them is seen
  * at the next turn even when every value it hit still looks plausible. */
 #define SEAR_LINK_GUARD 0x5EA75EA75EA75EA7ull
@@ -23,6 +23,9 @@
 #define SEAR_LINK_MAX_SAMPLES 256
 #define SEAR_LINK_MAX_RX 8192 /* 10 ms (the longest step) at 2 Mbaud on all four ports */
 #define SEAR_LINK_MAX_EVENTS 2048
+/* CAN records towards the firmware per quantum: a 10 ms step at 1 Mbit/s carries at most 212
+ * frames (47 bits each, the shortest), each a reception or a transmission's outcome. */
+#define SEAR_LINK_MAX_CAN 512
 
 /* Every HAL entry point, so a report can name the last one a firmware called. */
 #define SEAR_HAL_CALLS(X)                                                                            \
@@ -31,7 +34,8 @@
   X(servo_write_us) X(uart_begin) X(uart_available) X(uart_read) X(uart_write) X(uart_print)         \
   X(uart_flush) X(spi_begin) X(spi_transfer) X(i2c_begin) X(i2c_write) X(i2c_read) X(i2c_write_reg) \
   X(i2c_read_regs) X(irq_attach_pin) X(irq_detach_pin) X(irq_timer_start) X(irq_timer_stop)         \
-  X(irq_attach_uart_rx) X(irq_disable) X(irq_enable)
+  X(irq_attach_uart_rx) X(irq_disable) X(irq_enable) X(can_begin) X(can_send) X(can_tx_pending)         \
+  X(can_available) X(can_receive) X(can_set_mask) X(can_set_filter) X(can_get_counters) X(can_attach_rx)
 
 #define SEAR_CALL_ENUM(name) SEAR_CALL_##name,
 enum sear_call { SEAR_HAL_CALLS(SEAR_CALL_ENUM) SEAR_CALL_COUNT };
@@ -98,6 +102,30 @@ struct sear_link_sample {
   double value[SEAR_LINK_SAMPLE_VALUES];
 };
 
+/* What the bus did for this MCU's CAN controller, at time_ns: a frame it received (before its
+ * acceptance filters, which run in the firmware's process), or the outcome of one of its own. */
+enum sear_can_record {
+  SEAR_CAN_RECEIVED = 1, /* time = end of the frame */
+  SEAR_CAN_SENT = 2,     /* its oldest waiting frame went out and was acknowledged; time = its end */
+  SEAR_CAN_NO_ACK = 3    /* its oldest waiting frame went unacknowledged; it is sent again */
+};
+/* The bit rates a CAN controller of hal/can.h makes (an MCP2515 at 16 MHz makes each exactly). */
+#define SEAR_CAN_BITRATES 10000u, 20000u, 50000u, 100000u, 125000u, 250000u, 500000u, 1000000u
+#define SEAR_CAN_EXTENDED 1u
+#define SEAR_CAN_REMOTE 2u
+
+struct sear_link_can {
+  int64_t time_ns;
+  uint32_t id;
+  uint8_t record; /* enum sear_can_record */
+  uint8_t flags;  /* SEAR_CAN_EXTENDED, SEAR_CAN_REMOTE */
+  uint8_t dlc;
+  uint8_t tec;    /* the controller's error counters after this record */
+  uint8_t rec;
+  uint8_t reserved[3];
+  uint8_t data[8];
+};
+
 struct sear_link_rx {
   int64_t time_ns; /* when the stop bit ends */
   uint8_t port;
@@ -112,7 +140,13 @@ enum sear_event_kind {
   SEAR_EVENT_SERVO = 4,      /* index = pin, value = pulse in microseconds, 0 = off */
   SEAR_EVENT_UART_BEGIN = 5, /* index = port, value = baud */
   SEAR_EVENT_UART_TX = 6,    /* index = port, value = byte; time = end of its stop bit */
-  SEAR_EVENT_UART_RX = 7     /* index = port, value = byte; time = end of its stop bit */
+  SEAR_EVENT_UART_RX = 7,    /* index = port, value = byte; time = end of its stop bit */
+  SEAR_EVENT_CAN_BEGIN = 8,  /* index 0, value = bit rate */
+  /* A frame queued for sending: index = dlc | SEAR_CAN_* flags << 4, value = identifier; the two
+   * CAN_DATA events that follow at once carry its data bytes 0-3 (index 0) and 4-7 (index 1),
+   * little-endian. */
+  SEAR_EVENT_CAN_TX = 9,
+  SEAR_EVENT_CAN_DATA = 10
 };
 
 struct sear_event {
@@ -146,8 +180,11 @@ struct sear_link {
   int64_t quantum_end_ns;
   uint32_t sample_count;
   uint32_t rx_count;
+  uint32_t can_count;
+  uint32_t reserved_count;
   struct sear_link_sample samples[SEAR_LINK_MAX_SAMPLES]; /* in time order */
   struct sear_link_rx rx[SEAR_LINK_MAX_RX];               /* in time order */
+  struct sear_link_can can[SEAR_LINK_MAX_CAN];            /* in time order */
 
   /* Written by the firmware on every HAL call, read by the simulator for reports. */
   int64_t clock_ns;

@@ -10,8 +10,14 @@ packages=(
   libgtest-dev libbenchmark-dev
   libembree-dev              # ray casting against the static world (sensors)
   gpsd gpsd-clients          # the NMEA tests check the GPS talker against gpsd
+  liblcm-dev liblcm-bin      # LCM: lcm-gen at build time; lcm-logger and lcm-logplayer in the tests
+  python3-canmatrix          # decodes SEAR's CAN broadcast through tools/can/sear.dbc in the tests
+  qemu-system-x86 busybox-static can-utils  # the vcan tests boot Debian's kernel in a guest (scripts/vcan-guest)
   clang libclang-rt-14-dev   # libFuzzer for the project-file fuzz target
   gcc-avr avr-libc binutils-avr  # the ATmega2560 build of the HAL and the firmware examples
+  gtkwave                    # vcd2fst and fst2vcd read the MCUs' VCD waveforms back in the tests
+  parallel                   # GNU parallel runs `sear test --shard K/N` shards in the tests (and over ssh hosts)
+  python3-matplotlib         # draws every run's plots (tools/plots/plot_run.py); without it a run only warns
 )
 
 missing=()

@@ -13,7 +13,9 @@ void motors_begin(void) {
 static void motor(uint8_t pwm_pin, uint8_t dir_pin, uint8_t brake_pin, int16_t speed) {
   digital_write(brake_pin, LOW);
   digital_write(dir_pin, speed >= 0 ? HIGH : LOW);
-  pwm_write(pwm_pin, (uint8_t)(speed >= 0 ? speed : -speed));
+  /* Full duty beyond +-255: a steering sum past it must not wrap to a crawl. */
+  const int duty = speed >= 0 ? speed : -speed;
+  pwm_write(pwm_pin, (uint8_t)(duty > 255 ? 255 : duty));
 }
 
 void motors_drive(int16_t left, int16_t right) {

@@ -13,7 +13,7 @@
 
 /* Direction and brake pins to outputs; the motors stay as they are until motors_drive(). */
 void motors_begin(void);
-/* Duties -255..255 each, negative backwards; releases the brakes. */
+/* Duties -255..255 each, negative backwards (beyond: full duty); releases the brakes. */
 void motors_drive(int16_t left, int16_t right);
 /* Both PWMs off and both brakes on. */
 void motors_brake(void);

@@ -3,6 +3,7 @@
 #ifndef SEAR_HAL_RUNTIME_MCU_STATE_H
 #define SEAR_HAL_RUNTIME_MCU_STATE_H
 
+#include <hal/can.h>
 #include <hal/irq.h>
 #include <hal/uart.h>
 #include <stdint.h>
@@ -65,6 +66,29 @@ struct mcu_uart {
   uint8_t fifo_count;
 };
 
+#define MCU_CAN_ARRIVALS SEAR_LINK_MAX_CAN /* records not yet due: one quantum's worth */
+
+/* The CAN controller as hal/can.h describes it (an MCP2515's buffers, filters and counters). */
+struct mcu_can {
+  uint32_t bitrate; /* 0: not begun */
+  uint8_t tx_pending;
+  struct can_frame rx[CAN_RX_BUFFERS]; /* a FIFO, oldest at rx_head */
+  uint8_t rx_head;
+  uint8_t rx_count;
+  uint16_t rx_overruns;
+  uint8_t tec;
+  uint8_t rec;
+  int filtering; /* from the first can_set_mask/can_set_filter after can_begin */
+  uint32_t mask[2];
+  uint32_t filter_id[CAN_FILTERS];
+  uint8_t filter_extended[CAN_FILTERS];
+  irq_handler rx_handler;
+  int rx_pending; /* a kept frame waits for its interrupt */
+  struct sear_link_can arrivals[MCU_CAN_ARRIVALS]; /* ring, in time order */
+  uint32_t arrival_head;
+  uint32_t arrival_count;
+};
+
 struct mcu {
   struct sear_link *link;
   int64_t cost_ns;
@@ -98,6 +122,8 @@ struct mcu {
   uint8_t adc_bits;
 
   struct mcu_uart uart[SEAR_LINK_UARTS];
+
+  struct mcu_can can;
 
   uint32_t spi_clock_hz;
   uint32_t i2c_clock_hz;

@@ -5,6 +5,7 @@
 
 #include <stdio.h>
 
+#include "can_controller.h"
 #include "devices.h"
 #include "link_end.h"
 #include "pins.h"
@@ -26,6 +27,12 @@ void mcu_take_quantum(void) {
   sear_mcu.sample_next = 0;
   for (uint32_t i = 0; i < link->rx_count && i < SEAR_LINK_MAX_RX; ++i)
     if (link->rx[i].port < SEAR_LINK_UARTS) mcu_uart_arrive(link->rx[i].port, link->rx[i].byte, link->rx[i].time_ns);
+  for (uint32_t i = 0; i < link->can_count && i < SEAR_LINK_MAX_CAN; ++i) mcu_can_arrive(&link->can[i]);
+}
+
+static int64_t earliest_can(void) {
+  const struct mcu_can *c = &sear_mcu.can;
+  return c->arrival_count ? c->arrivals[c->arrival_head].time_ns : MCU_TIME_NEVER;
 }
 
 static int64_t earliest_arrival(void) {
@@ -46,11 +53,13 @@ static int64_t earliest_input(void) {
   if (sear_mcu.timer_handler && sear_mcu.timer_due_ns < t) t = sear_mcu.timer_due_ns;
   const int64_t d = mcu_devices_next_event();
   if (d < t) t = d;
+  const int64_t c = earliest_can();
+  if (c < t) t = c;
   return t;
 }
 
 static int interrupt_pending(void) {
-  if (sear_mcu.timer_pending) return 1;
+  if (sear_mcu.timer_pending || sear_mcu.can.rx_pending) return 1;
   for (int port = 0; port < SEAR_LINK_UARTS; ++port)
     if (sear_mcu.uart[port].handler_count || sear_mcu.uart[port].fifo_count) return 1;
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin)
@@ -103,7 +112,9 @@ static void apply_due(int64_t now) {
   const struct sear_link *link = sear_mcu.link;
   for (;;) {
     int64_t t = MCU_TIME_NEVER;
-    int which = -1; /* 0 sample, 1 timer, 2 + port: arrival, 2 + SEAR_LINK_UARTS: a device's event */
+    /* 0 sample, 1 timer, 2 + port: arrival, 2 + SEAR_LINK_UARTS: a device's event, 3 +
+     * SEAR_LINK_UARTS: a CAN record */
+    int which = -1;
     if (sear_mcu.sample_next < link->sample_count) {
       t = link->samples[sear_mcu.sample_next].time_ns;
       which = 0;
@@ -124,11 +135,21 @@ static void apply_due(int64_t now) {
       t = device;
       which = 2 + SEAR_LINK_UARTS;
     }
+    if (earliest_can() < t) {
+      t = earliest_can();
+      which = 3 + SEAR_LINK_UARTS;
+    }
     if (which < 0 || t > now) return;
     if (which == 0) {
       mcu_devices_sample(&link->samples[sear_mcu.sample_next++]);
     } else if (which == 2 + SEAR_LINK_UARTS) {
       mcu_devices_run_due(t);
+    } else if (which == 3 + SEAR_LINK_UARTS) {
+      struct mcu_can *c = &sear_mcu.can;
+      const struct sear_link_can record = c->arrivals[c->arrival_head];
+      c->arrival_head = (c->arrival_head + 1) % MCU_CAN_ARRIVALS;
+      c->arrival_count--;
+      mcu_can_apply(&record);
     } else if (which == 1) {
       /* One pending flag, as in the timer's hardware: ticks missed meanwhile are lost. */
       sear_mcu.timer_pending = 1;
@@ -149,7 +170,8 @@ static void run_isr(irq_handler handler) {
   sear_mcu.irq_enabled = 1;
 }
 
-/* In the chip's vector order: external and pin-change interrupts, then the timer, then UARTs. */
+/* In the chip's vector order: external and pin-change interrupts (the CAN controller's INT line
+ * is one, after the pins'), then the timer, then UARTs. */
 static int deliver_one(void) {
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) {
     if (sear_mcu.pin_pending[pin]) {
@@ -157,6 +179,11 @@ static int deliver_one(void) {
       if (sear_mcu.pin_handler[pin]) run_isr(sear_mcu.pin_handler[pin]);
       return 1;
     }
+  }
+  if (sear_mcu.can.rx_pending) {
+    sear_mcu.can.rx_pending = 0;
+    if (sear_mcu.can.rx_handler) run_isr(sear_mcu.can.rx_handler);
+    return 1;
   }
   if (sear_mcu.timer_pending) {
     sear_mcu.timer_pending = 0;

@@ -7,14 +7,16 @@
 #include <string>
 #include <vector>
 
+#include "runtime/can_network.hpp"
 #include "runtime/mcu_bridge.hpp"
+#include "runtime/run_tap.hpp"
 #include "runtime/simulation.hpp"
 
 namespace sear {
 
 struct LockstepOptions {
   std::string out_dir;         // each MCU's host log (its stdout and stderr) goes here
-  McuRunOptions mcu;
+  McuRunOptions mcu;           // its tap is told of every MCU, CAN bus and step
   bool keep_going = false;     // a stopped MCU ends the run, unless this is set
 };
 
@@ -38,6 +40,8 @@ class Lockstep {
   std::size_t mcu_count() const { return bridges_.size(); }
   const McuBridge& mcu(std::size_t i) const { return *bridges_[i]; }
   const std::vector<McuStop>& stops() const { return stops_; }
+  // Bridges a <can_bus> to the host; see CanNetwork::attach_host.
+  void attach_can_host(const std::string& bus, HostCanEnd* end);
 
  private:
   Simulation& sim_;
@@ -47,6 +51,7 @@ class Lockstep {
   std::vector<bool> running_;
   std::vector<std::size_t> robot_of_;  // per bridge, the index of its robot
   std::vector<McuStop> stops_;
+  std::unique_ptr<CanNetwork> can_;  // null when the project has no <can_bus>
 };
 
 }  // namespace sear

@@ -15,13 +15,14 @@ std::int64_t call_cost_ns(const McuDesc& d) { return std::llround(d.hal_call_cyc
 
 }  // namespace
 
-McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id, Vehicle& vehicle, std::uint64_t seed,
-                     const std::string& host_log, const McuRunOptions& options)
-    : desc_(desc), id_(std::move(id)), vehicle_(vehicle) {
+McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id, std::size_t index, Vehicle& vehicle,
+                     std::uint64_t seed, const std::string& host_log, const McuRunOptions& options)
+    : desc_(desc), id_(std::move(id)), index_(index), tap_(options.tap), vehicle_(vehicle) {
   DeviceHost host(desc_, world, seed, inputs_);
   for (std::size_t i = 0; i < desc_.devices.size(); ++i) {
     host.set_device(i);
     devices_.push_back(desc_.devices[i].kind->make(desc_.devices[i], host));
+    input_device_.resize(inputs_.size(), i);
   }
   pin_listener_.fill(-1);
   for (std::size_t i = 0; i < devices_.size(); ++i) {
@@ -31,8 +32,12 @@ McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id
       if (d.kind->wires[w].kind == WireKind::McuPin) pin_listener_[static_cast<std::size_t>(d.wires[w])] = static_cast<int>(i);
       if (d.kind->wires[w].kind == WireKind::UartPort && devices_[i]->uart()) {
         UartDevice* device = devices_[i]->uart();
-        serial_.push_back({device, static_cast<std::uint8_t>(d.wires[w]), SerialWire(false),
-                           SerialWire(device->inverted()), device->baud(), 0});
+        const auto host_end = options.host_serial.find(id_ + "." + d.name);
+        HostSerialEnd* host_side = host_end == options.host_serial.end() ? nullptr : host_end->second;
+        // A host's serial port reads RS-232 polarity as it should: the inversion a MaxBotix's
+        // TX needs before an MCU's UART is not there on a PC's side.
+        serial_.push_back({device, i, static_cast<std::uint8_t>(d.wires[w]), host_side, SerialWire(false),
+                           SerialWire(!host_side && device->inverted()), device->baud(), 0});
         serial_.back().to_device.set_receiver_baud(device->baud(), 0);
       }
     }
@@ -85,8 +90,18 @@ void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std:
   rx_count = exchange_serial(t0, t1, link, rx_count);
   const std::vector<sear_link_sample>& samples = samples_.sorted();
   std::copy(samples.begin(), samples.end(), link.samples);
+  if (tap_)
+    for (const sear_link_sample& sample : samples) tap_->on_sample(index_, input_device_[sample.input], sample);
   link.sample_count = static_cast<std::uint32_t>(samples.size());
   link.rx_count = rx_count;
+  // What the bus did for the controller up to t1. A quantum carries at most SEAR_LINK_MAX_CAN (the
+  // shortest frames back to back at 1 Mbit/s over the longest step); any more would wait here.
+  std::uint32_t can_count = 0;
+  while (!can_records_.empty() && can_records_.front().time_ns < t1 && can_count < SEAR_LINK_MAX_CAN) {
+    link.can[can_count++] = can_records_.front();
+    can_records_.pop_front();
+  }
+  link.can_count = can_count;
   process_->start_quantum(t1);
 }
 
@@ -98,19 +113,47 @@ void McuBridge::note_device_baud(SerialLink& s, std::int64_t now_ns) {
   s.to_device.set_receiver_baud(s.device_baud, s.baud_since_ns);
 }
 
+void McuBridge::take_from_host(SerialLink& s, std::int64_t t0, std::int64_t t1) {
+  const std::uint32_t baud = s.host->baud();
+  if (baud != s.host_baud) {
+    s.host_baud = baud;
+    s.to_mcu.set_receiver_baud(baud, t0);
+  }
+  if (!baud) return;  // a host end with no rate set sends nothing
+  // Only the bytes that start on the line before t1: the rest waits in the pty, whose writer then
+  // blocks as on a real port, instead of piling up here ever further ahead of the clock.
+  const std::int64_t frame = serial_frame_ns(baud);
+  std::int64_t end = std::max(s.host_sent_end_ns, t0);
+  std::uint8_t bytes[256];
+  const std::size_t room = static_cast<std::size_t>(std::max<std::int64_t>(0, (t1 - end + frame - 1) / frame));
+  const std::size_t n = room ? s.host->read(bytes, std::min(room, sizeof bytes)) : 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    end += frame;
+    s.to_device.send({end, baud, bytes[i], {}});
+  }
+  s.host_sent_end_ns = end;
+}
+
 std::uint32_t McuBridge::exchange_serial(std::int64_t t0, std::int64_t t1, sear_link& link, std::uint32_t rx_count) {
   for (SerialLink& s : serial_) {
-    // What the firmware sent up to t0 reaches the device, at the rate it listens at.
+    if (s.host) take_from_host(s, t0, t1);
+    // What the firmware (or the host) sent up to t0 reaches the device, at the rate it listens at.
     note_device_baud(s, t0);
     line_bytes_.clear();
     s.to_device.receive_until(t0, line_bytes_);
     for (const serial_byte& b : line_bytes_) s.device->receive(b);
+    if (tap_ && !line_bytes_.empty()) tap_->on_wire_bytes(index_, s.device_index, false, line_bytes_.data(), line_bytes_.size());
     // Its answers, no earlier than t0: the firmware's clock is there already.
     const std::size_t n = s.device->transmit(t0, t1, sent_bytes_.data(), sent_bytes_.size());
     for (std::size_t i = 0; i < n; ++i) s.to_mcu.send(sent_bytes_[i]);
+    if (tap_ && n) tap_->on_wire_bytes(index_, s.device_index, true, sent_bytes_.data(), n);
     note_device_baud(s, t0);  // a reply sent just now may have switched it
     line_bytes_.clear();
     s.to_mcu.receive_until(t1, line_bytes_);
+    if (s.host) {
+      s.host->write(line_bytes_.data(), line_bytes_.size());
+      continue;
+    }
     for (const serial_byte& b : line_bytes_) {
       if (rx_count == SEAR_LINK_MAX_RX) break;
       sear_link_rx& rx = link.rx[rx_count++];
@@ -148,16 +191,35 @@ void McuBridge::drain(std::size_t index, McuListener& listener) {
       case SEAR_EVENT_UART_BEGIN:
         port_baud_[e.index] = e.value;
         for (SerialLink& s : serial_)
-          if (s.port == e.index) s.to_mcu.set_receiver_baud(e.value, e.time_ns);
+          if (s.port == e.index && !s.host) s.to_mcu.set_receiver_baud(e.value, e.time_ns);
         break;
       case SEAR_EVENT_UART_TX:
         for (SerialLink& s : serial_)
-          if (s.port == e.index) s.to_device.send({e.time_ns, port_baud_[e.index], static_cast<std::uint8_t>(e.value), {}});
+          if (s.port == e.index && !s.host)
+            s.to_device.send({e.time_ns, port_baud_[e.index], static_cast<std::uint8_t>(e.value), {}});
+        break;
+      case SEAR_EVENT_CAN_BEGIN:
+        can_bitrate_ = e.value;
+        ++can_begins_;
+        can_requests_.clear();  // a reset controller forgets what it had queued
+        break;
+      case SEAR_EVENT_CAN_TX:  // the link check holds that both data events follow
+        can_building_ = {e.time_ns, {}};
+        can_building_.frame.id = e.value;
+        can_building_.frame.dlc = e.index & 15u;
+        can_building_.frame.extended = (e.index >> 4) & SEAR_CAN_EXTENDED;
+        can_building_.frame.remote = (e.index >> 4) & SEAR_CAN_REMOTE;
+        break;
+      case SEAR_EVENT_CAN_DATA:
+        for (int b = 0; b < 4; ++b)
+          can_building_.frame.data[static_cast<std::size_t>(e.index * 4 + b)] = static_cast<std::uint8_t>(e.value >> (8 * b));
+        if (e.index == 1) can_requests_.push_back(can_building_);
         break;
       default:
         break;
     }
     listener.on_event(index, e);
+    if (tap_) tap_->on_mcu_event(index, e);
   }
 }
 

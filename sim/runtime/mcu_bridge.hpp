@@ -4,15 +4,21 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "devices/sim_device.hpp"
 #include "devices/uart_device.hpp"
 #include "physics/vehicle.hpp"
+#include "runtime/can_frame.hpp"
+#include "runtime/host_serial.hpp"
 #include "runtime/mcu_process.hpp"
+#include "runtime/run_tap.hpp"
 #include "runtime/serial_wire.hpp"
 #include "scene/description.hpp"
 
@@ -30,13 +36,23 @@ class McuListener {
 struct McuRunOptions {
   double hang_timeout_s = 5;                  // host time without progress before a firmware counts as hung
   std::uint64_t max_file_bytes = UINT64_MAX;  // the most a firmware may write to any one file
+  RunTap* tap = nullptr;                      // told what the MCU and its devices do; may be null
+  // UART devices taken off their MCU port and given to the host instead, by "robot.mcu.device".
+  std::map<std::string, HostSerialEnd*> host_serial;
+};
+
+// A frame the firmware queued on its CAN controller, at the time of the call.
+struct CanRequest {
+  std::int64_t time_ns;
+  CanFrame frame;
 };
 
 class McuBridge {
  public:
-  // `desc.firmware_executable` must name the built firmware. `id` is "robot.mcu".
-  McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id, Vehicle& vehicle, std::uint64_t seed,
-            const std::string& host_log, const McuRunOptions& options);
+  // `desc.firmware_executable` must name the built firmware. `id` is "robot.mcu"; `index` is the
+  // MCU's place in the run, as taps are told it.
+  McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id, std::size_t index, Vehicle& vehicle,
+            std::uint64_t seed, const std::string& host_log, const McuRunOptions& options);
 
   const std::string& id() const { return id_; }
   const McuDesc& desc() const { return desc_; }
@@ -56,6 +72,15 @@ class McuBridge {
   // Ends the firmware at time_ns, as its robot left the world: its process is killed and nothing
   // it queued for later is written.
   void shut_down(std::size_t index, std::int64_t time_ns, McuListener& listener);
+  bool running() const { return process_ && !process_->failure(); }
+
+  // CAN: the bit rate the firmware began its controller at (0: not begun), the frames it queued
+  // in the quantum just finished (taken once), and what the bus did for it, passed on to the
+  // firmware when the quantum its time falls in begins (records come in time order).
+  std::uint32_t can_bitrate() const { return can_bitrate_; }
+  std::uint32_t can_begins() const { return can_begins_; }  // can_begin() calls so far
+  std::vector<CanRequest> take_can_requests() { return std::exchange(can_requests_, {}); }
+  void deliver_can(const sear_link_can& record) { can_records_.push_back(record); }
 
  private:
   static void setup_link(sear_link& link, const void* self);
@@ -66,6 +91,9 @@ class McuBridge {
 
   McuDesc desc_;
   std::string id_;
+  std::size_t index_;
+  RunTap* tap_;
+  std::vector<std::size_t> input_device_;  // per inputs_ entry: the device whose model it is
   Vehicle& vehicle_;
   std::vector<sear_link_input> inputs_;               // the devices' models in the firmware's process
   std::vector<std::unique_ptr<SimDevice>> devices_;  // desc_.devices, in order
@@ -81,12 +109,18 @@ class McuBridge {
   // on the rate or the polarity, each reads what a real receiver would.
   struct SerialLink {
     UartDevice* device;
+    std::size_t device_index;
     std::uint8_t port;
+    HostSerialEnd* host;  // the device's other end, when the host has it instead of the port
     SerialWire to_device;  // the firmware's TX as the device's receiver reads it
     SerialWire to_mcu;     // the device's TX as the port's receiver reads it
     std::uint32_t device_baud;
     std::int64_t baud_since_ns;
+    std::uint32_t host_baud = 0;
+    std::int64_t host_sent_end_ns = 0;  // the host's bytes leave back to back from here
   };
+  // The host's bytes onto the line into the device, at the host's rate, from t0 on.
+  void take_from_host(SerialLink& s, std::int64_t t0, std::int64_t t1);
   std::vector<SerialLink> serial_;
   // Tells the line into the device of a rate the device took up, from the instant it did.
   static void note_device_baud(SerialLink& s, std::int64_t now_ns);
@@ -94,6 +128,12 @@ class McuBridge {
   std::array<int, SEAR_LINK_PINS> pin_listener_{};          // the device told of writes to a pin, or -1
   std::vector<serial_byte> line_bytes_;                     // scratch, per exchange: decoded bytes
   std::vector<serial_byte> sent_bytes_;                     // scratch: what a device sends in a quantum
+
+  std::uint32_t can_bitrate_ = 0;
+  std::uint32_t can_begins_ = 0;
+  std::vector<CanRequest> can_requests_;
+  CanRequest can_building_{};  // a frame whose data events are still to come
+  std::deque<sear_link_can> can_records_;
 };
 
 }  // namespace sear

@@ -252,6 +252,8 @@ struct McuDesc {
   std::vector<MotorWiring> motors;
   std::vector<ServoWiring> servos;
   std::vector<UartDesc> uarts;
+  std::string can_bus;  // the <can_bus> its CAN controller is on, empty: none
+  SourceRef can_source;
 };
 
 struct RobotDesc {
@@ -276,11 +278,21 @@ struct RunDesc {
   double trace_rate_hz = 100;
 };
 
+// A CAN bus between MCUs (of one robot or several), at one bit rate; SEAR itself may broadcast
+// the robots' state on it (the frames tools/can/sear.dbc describes).
+struct CanBusDesc {
+  std::string name;
+  SourceRef source;
+  std::uint32_t bitrate = 500000;
+  double broadcast_hz = 0;  // 0: SEAR sends nothing of its own
+};
+
 struct ProjectDesc {
   std::string file;
   std::string name;
   WorldDesc world;
   std::vector<RobotDesc> robots;
+  std::vector<CanBusDesc> can_buses;
   RunDesc run;
 };
 

@@ -10,6 +10,8 @@
 #include <cerrno>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "scene/loader_parts.hpp"
 #include "scene/mesh_loader.hpp"
@@ -117,6 +119,18 @@ void check_label(ElementReader& r, const char* attribute, const std::string& tex
   }
   if (text.size() > kMaxLabel)
     r.error(fmt::format("<{}> attribute '{}' is {} bytes long; at most {}", r.name(), attribute, text.size(), kMaxLabel));
+}
+
+std::optional<std::string> read_named_file(const std::string& path, const char* what, Diagnostics& diagnostics) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    diagnostics.error(path, 0, std::filesystem::exists(path) ? fmt::format("cannot read {}", what)
+                                                             : fmt::format("{} not found", what));
+    return std::nullopt;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 std::size_t first_invalid_utf8(const std::string& text) {

@@ -1,6 +1,7 @@
 // Pieces of the project loader shared between its files: one reader per top-level element.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "scene/description.hpp"
@@ -35,6 +36,10 @@ void check_label(ElementReader& r, const char* attribute, const std::string& tex
 // The byte offset of the first byte of `text` that is not part of valid UTF-8 (overlong forms,
 // surrogates and code points beyond U+10FFFF included), or npos when it is all valid.
 std::size_t first_invalid_utf8(const std::string& text);
+
+// The whole of a file the user named as `what` ("project file", "scenario file"); empty, with the
+// error given, when it is missing or cannot be read.
+std::optional<std::string> read_named_file(const std::string& path, const char* what, Diagnostics& diagnostics);
 
 // Reports, at its line, the first byte of `text` (the contents of `file`) that is not UTF-8.
 // Project and robot files are read as UTF-8, whatever their XML declaration says: a Latin-1 name

@@ -152,7 +152,8 @@ void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diag
       r.whole_number("console_uart", 0, Range::between(-1, 3, "0..3, or -1 for no console")));
   check_at_most_one(element, file, diagnostics, {"firmware"});
   if (!element.FirstChildElement("firmware")) r.error("<mcu> needs a <firmware> naming its executable or sources");
-  std::vector<std::string> allowed = {"firmware", "motor", "servo", "uart"};
+  check_at_most_one(element, file, diagnostics, {"can"});
+  std::vector<std::string> allowed = {"firmware", "motor", "servo", "uart", "can"};
   for (const DeviceKind* k : device_kinds()) allowed.emplace_back(k->element);
   r.children(allowed,
              [&](const tinyxml2::XMLElement& child) {
@@ -161,6 +162,12 @@ void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diag
                if (kind == "firmware") read_firmware(c, mcu);
                else if (const DeviceKind* device = find_device_kind(kind)) mcu.devices.push_back(read_device(c, *device));
                else if (kind == "motor") mcu.motors.push_back(read_motor_wiring(c));
+               else if (kind == "can") {
+                 // The bus is looked up once the whole project is read (project_loader.cpp).
+                 mcu.can_source = {file, c.line()};
+                 mcu.can_bus = c.required_text("bus").value_or("");
+                 c.finish();
+               }
                else if (kind == "servo") {
                  ServoWiring s;
                  s.source = {file, c.line()};

@@ -10,11 +10,59 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "lockstep_link.h"
 #include "scene/element_reader.hpp"
 #include "scene/loader_parts.hpp"
+#include "scene/nearest_name.hpp"
 #include "scene/value_ranges.hpp"
 
 namespace sear {
+namespace {
+
+const std::vector<std::uint32_t> kCanBitrates = {SEAR_CAN_BITRATES};
+
+CanBusDesc read_can_bus(const tinyxml2::XMLElement& element, const std::string& path, Diagnostics& diagnostics) {
+  ElementReader c(&element, path, diagnostics);
+  CanBusDesc bus;
+  bus.source = {path, c.line()};
+  bus.name = c.required_text("name").value_or("");
+  check_name(c, bus.name);
+  const double rate = c.whole_number("bitrate", bus.bitrate, Range::between(10000, 1000000, "10000..1000000"));
+  if (std::find(kCanBitrates.begin(), kCanBitrates.end(), static_cast<std::uint32_t>(rate)) == kCanBitrates.end())
+    c.error(fmt::format("<can_bus> 'bitrate' {} is not a rate a CAN controller makes; use 10000, 20000, 50000, "
+                        "100000, 125000, 250000, 500000 or 1000000",
+                        rate));
+  bus.bitrate = static_cast<std::uint32_t>(rate);
+  // Up to 1 kHz: at most once a step of the default 1 ms.
+  bus.broadcast_hz = c.number("broadcast_hz", 0.0, Range::between(0, 1000, "0..1000 (0: none)"), "Hz");
+  c.finish();
+  return bus;
+}
+
+// Bus names are unique, and every <can bus> names one.
+void check_can_buses(const ProjectDesc& project, Diagnostics& diagnostics) {
+  std::vector<std::string> names;
+  for (const auto& bus : project.can_buses) {
+    if (std::find(names.begin(), names.end(), bus.name) != names.end())
+      diagnostics.error(bus.source.file, bus.source.line, fmt::format("can_bus name '{}' is used twice", bus.name));
+    names.push_back(bus.name);
+    // SEAR's broadcast puts the robot's index in the low 4 bits of its identifiers.
+    if (bus.broadcast_hz > 0 && project.robots.size() > 16)
+      diagnostics.error(bus.source.file, bus.source.line,
+                        fmt::format("can_bus '{}' broadcasts the state of at most 16 robots; the project has {}",
+                                    bus.name, project.robots.size()));
+  }
+  for (const auto& robot : project.robots)
+    for (const auto& mcu : robot.mcus)
+      if (!mcu.can_bus.empty() && std::find(names.begin(), names.end(), mcu.can_bus) == names.end())
+        diagnostics.error(mcu.can_source.file, mcu.can_source.line,
+                          fmt::format("robot '{}': mcu '{}' is on CAN bus '{}', but the project has no <can_bus "
+                                      "name=\"{}\">{}",
+                                      robot.name, mcu.name, mcu.can_bus, mcu.can_bus,
+                                      did_you_mean(diagnostics, mcu.can_bus, names)));
+}
+
+}  // namespace
 
 std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::string& path,
                                              Diagnostics& diagnostics) {
@@ -46,9 +94,14 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
   if (!world) r.error("<project> needs a <world>");
   else read_world(*world, path, diagnostics, project.world);
 
-  r.children({"run", "world", "robot"}, [&](const tinyxml2::XMLElement& child) {
+  // <expect> holds what a headless run checks: read by tools/expect, not here.
+  r.children({"run", "world", "robot", "can_bus", "expect"}, [&](const tinyxml2::XMLElement& child) {
     const std::string kind = child.Name();
-    if (kind == "world") {
+    if (kind == "expect") {
+      return;
+    } else if (kind == "can_bus") {
+      project.can_buses.push_back(read_can_bus(child, path, diagnostics));
+    } else if (kind == "world") {
       if (&child != world) diagnostics.error(path, child.GetLineNum(), "a project has one <world>");
     } else if (kind == "run") {
       ElementReader c(&child, path, diagnostics);
@@ -64,8 +117,9 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
     }
   });
   r.finish();
-  check_at_most_one(*root, path, diagnostics, {"run"});
+  check_at_most_one(*root, path, diagnostics, {"run", "expect"});
   for (const auto& robot : project.robots) validate_robot(robot, diagnostics);
+  check_can_buses(project, diagnostics);
 
   // Collision reports name what was hit: every obstacle and robot needs a name of its own. A hash
   // map keeps this linear: a generated world of 160 000 boxes is checked in well under a second.
@@ -87,14 +141,8 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
 }
 
 std::optional<ProjectDesc> load_project(const std::string& path, Diagnostics& diagnostics) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    diagnostics.error(path, 0, std::filesystem::exists(path) ? "cannot read project file" : "project file not found");
-    return std::nullopt;
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return load_project_text(text.str(), path, diagnostics);
+  const auto text = read_named_file(path, "project file", diagnostics);
+  return text ? load_project_text(*text, path, diagnostics) : std::nullopt;
 }
 
 }  // namespace sear

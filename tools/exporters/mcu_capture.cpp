@@ -9,9 +9,6 @@
 namespace sear {
 namespace {
 
-// VCD identifiers: one printable character per pin, from '!' on (IEEE 1364 section 18.2).
-char vcd_id(int pin) { return static_cast<char>('!' + pin); }
-
 std::string seconds(std::int64_t ns) { return fmt::format("{}.{:09d}", ns / 1000000000, ns % 1000000000); }
 
 // "S.NNNNNNNNN tx hh\n" into `line`, which has room for it. A port at 500 kbaud writes 50 000 of
@@ -51,13 +48,7 @@ McuCapture::McuCapture(std::string out_dir, std::vector<Mcu> mcus, bool echo, st
     s.mcu = m;
     if (m.console_uart >= 0) s.console = open(m.id + ".console.log", text_truncation_note(max_file_bytes_));
     s.pins = open(m.id + ".pins.vcd", vcd_truncation_note(max_file_bytes_));
-    std::string header = fmt::format(
-        "$comment SEAR pin levels of mcu {} $end\n$timescale 1 ns $end\n$scope module {} $end\n", m.id, m.id);
-    for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) header += fmt::format("$var wire 1 {} D{} $end\n", vcd_id(pin), pin);
-    header += "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n";
-    for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) header += fmt::format("z{}\n", vcd_id(pin));
-    header += "$end\n";
-    s.pins->write(header);
+    s.waveform = std::make_unique<PinWaveform>(*s.pins, m.id, m.waveform_uart_bytes);
     states_.push_back(std::move(s));
   }
 }
@@ -96,16 +87,6 @@ void McuCapture::console_byte(State& s, std::int64_t time_ns, std::uint8_t byte)
   else if (byte != '\r') s.line.push_back(static_cast<char>(byte));
 }
 
-void McuCapture::pin_change(State& s, std::int64_t time_ns, int pin, char value) {
-  std::string text;
-  if (time_ns != s.last_pin_time) text = fmt::format("#{}\n", time_ns);
-  s.last_pin_time = time_ns;
-  text += value;
-  text += vcd_id(pin);
-  text += '\n';
-  s.pins->write(text);
-}
-
 void McuCapture::on_event(std::size_t mcu, const sear_event& e) { states_[mcu].pending.push_back(e); }
 
 void McuCapture::on_stop(std::size_t mcu, std::int64_t time_ns) {
@@ -115,12 +96,6 @@ void McuCapture::on_stop(std::size_t mcu, std::int64_t time_ns) {
 
 void McuCapture::write_event(State& s, const sear_event& e) {
   switch (e.kind) {
-    case SEAR_EVENT_PIN:
-      pin_change(s, e.time_ns, e.index, e.value ? '1' : '0');
-      break;
-    case SEAR_EVENT_PIN_MODE:
-      if (e.value != 1) pin_change(s, e.time_ns, e.index, 'z');  // an input: the MCU drives nothing
-      break;
     case SEAR_EVENT_UART_BEGIN:
       port(s, e.index).text->write(fmt::format("{} baud {}\n", seconds(e.time_ns), e.value));
       break;
@@ -147,9 +122,14 @@ void McuCapture::release(State& s, std::int64_t until_ns) {
   std::stable_sort(s.pending.begin(), s.pending.end(),
                    [](const sear_event& a, const sear_event& b) { return a.time_ns < b.time_ns; });
   const std::int64_t limit = std::min(until_ns, s.stop_ns);
-  std::size_t n = 0;
-  for (; n < s.pending.size() && s.pending[n].time_ns <= until_ns; ++n)
-    if (s.pending[n].time_ns <= limit) write_event(s, s.pending[n]);
+  std::size_t n = 0, written = 0;
+  for (; n < s.pending.size() && s.pending[n].time_ns <= until_ns; ++n) {
+    if (s.pending[n].time_ns > limit) continue;
+    write_event(s, s.pending[n]);
+    ++written;
+  }
+  // Those written are the first, in time order; at once, as the waveform looks ahead among them.
+  s.waveform->write(s.pending.data(), written);
   s.pending.erase(s.pending.begin(), s.pending.begin() + static_cast<std::ptrdiff_t>(n));
 }
 
@@ -165,6 +145,7 @@ void McuCapture::finish(std::int64_t end_ns) {
   for (auto& s : states_) {
     release(s, end_ns);
     s.pending.clear();  // due after the run's end: never on the wire within it
+    s.waveform->finish(std::min(end_ns, s.stop_ns));
     if (s.console && !s.line.empty()) end_line(s, s.line_time);
   }
   for (auto* f : all_) f->flush();

@@ -1,5 +1,6 @@
 // What each MCU did on its pins and ports, written to the output folder as the run's time passes:
-// the console log, every UART's traffic (raw and time-stamped), and the pins as a VCD waveform.
+// the console log, every UART's traffic (raw and time-stamped), and the pins, PWM duties and UART
+// bytes as a VCD waveform (exporters/pin_waveform.hpp).
 // Events wait until the world's time reaches them (a UART byte is stamped with the end of its
 // stop bit, which may lie quanta ahead), so nothing is stamped after the run's end or after its
 // MCU stopped.
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "exporters/bounded_file.hpp"
+#include "exporters/pin_waveform.hpp"
 #include "runtime/mcu_bridge.hpp"
 
 namespace sear {
@@ -21,6 +23,7 @@ class McuCapture : public McuListener {
   struct Mcu {
     std::string id;    // "robot.mcu", the stem of its files
     int console_uart;  // -1: none
+    bool waveform_uart_bytes = true;  // the VCD shows each UART byte (PinWaveform)
   };
   // `echo`: console lines also go to standard output, with the MCU and the sim time; a closed
   // standard output ends the echo, not the run. No file grows past `max_file_bytes`.
@@ -45,8 +48,8 @@ class McuCapture : public McuListener {
     Mcu mcu;
     std::unique_ptr<BoundedFile> console, pins;
     std::string line;
-    std::int64_t line_time = 0;      // of the console's last byte
-    std::int64_t last_pin_time = 0;  // the header's initial values are at #0
+    std::unique_ptr<PinWaveform> waveform;  // into `pins`
+    std::int64_t line_time = 0;             // of the console's last byte
     std::int64_t stop_ns = INT64_MAX;
     std::map<int, PortFiles> ports;
     std::vector<sear_event> pending;  // not yet due, in the order they came
@@ -56,7 +59,6 @@ class McuCapture : public McuListener {
   void write_event(State& s, const sear_event& e);
   void console_byte(State& s, std::int64_t time_ns, std::uint8_t byte);
   void end_line(State& s, std::int64_t time_ns);
-  void pin_change(State& s, std::int64_t time_ns, int pin, char value);
   void release(State& s, std::int64_t until_ns);
 
   std::string out_dir_;

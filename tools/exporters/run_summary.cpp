@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 namespace sear {
@@ -39,6 +41,15 @@ std::string summary_text(const Simulation& sim, const RunOutcome& o) {
   for (const auto& c : sim.collisions())
     out += fmt::format("  collision at {:.3f} s: {} hit {}\n", static_cast<double>(c.time_ns) * 1e-9, c.robot, c.other);
   for (const auto& stop : o.mcu_stops) out += fmt::format("  {}\n", describe(stop));
+  for (const auto& e : o.expectations)
+    if (e.verdict != "passed") out += fmt::format("  expectation failed at {:.3f} s: {}: {}\n", e.time_s, e.name, e.seen);
+  if (!o.expectations.empty())
+    out += fmt::format("  expectations: {} of {} passed\n",
+                       std::count_if(o.expectations.begin(), o.expectations.end(),
+                                     [](const auto& e) { return e.verdict == "passed"; }),
+                       o.expectations.size());
+  for (const auto& port : o.host_ports)
+    out += fmt::format("  {} on the host: {}{}\n", port.name, port.path, port.link.empty() ? "" : " (link " + port.link + ")");
   return out;
 }
 
@@ -85,6 +96,11 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
                               {"sim_time_s", static_cast<double>(stop.failure.time_ns) * 1e-9},
                               {"last_hal_call", stop.failure.last_call}});
   j["truncated_files"] = o.truncated_files;
+  j["expectations"] = nlohmann::ordered_json::array();
+  for (const auto& e : o.expectations)
+    j["expectations"].push_back({{"name", e.name}, {"verdict", e.verdict}, {"time_s", e.time_s}, {"seen", e.seen}});
+  j["host_ports"] = nlohmann::ordered_json::array();
+  for (const auto& port : o.host_ports) j["host_ports"].push_back({{"name", port.name}, {"path", port.path}, {"link", port.link}});
   // Names are checked UTF-8 at load, but paths from the command line are the user's bytes: any
   // that are not UTF-8 are written with U+FFFD rather than losing the whole summary.
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";

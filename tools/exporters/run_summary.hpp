@@ -20,6 +20,21 @@ struct RunOutcome {
   std::string status = "completed";  // or "interrupted", "mcu stopped", "physics failed"
   std::vector<McuStop> mcu_stops;    // firmware that crashed, exited, hung or was refused
   std::vector<std::string> truncated_files;  // outputs that reached their size limit
+  // The run's ends on the host: a device and its pseudo-terminal, a CAN bus and its interface.
+  struct HostPort {
+    std::string name;  // "rover.main.gps" or "can_bus body"
+    std::string path;  // "/dev/pts/3" or "vcan0"
+    std::string link;  // a pty's stable link, "sear-out/rover.main.gps.pty"; empty for CAN
+  };
+  std::vector<HostPort> host_ports;
+  // What the run was expected to show (a scenario's or the project's <expect>), once decided.
+  struct Expectation {
+    std::string name;
+    std::string verdict;  // "passed" or "failed"
+    double time_s;        // when it was decided
+    std::string seen;     // for a failure: what was seen instead
+  };
+  std::vector<Expectation> expectations;
 };
 
 // "mcu rover.main crashed with signal 11 (...) at sim time 1.234 s; last HAL call: adc_read"

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace sear {
 
@@ -18,7 +19,24 @@ struct RunOptions {
   double hang_timeout_s = 5;  // host seconds a firmware may go without progress
   bool keep_going = false;    // a stopped firmware does not end the run
   double max_file_mb = 256;   // the most any one output file of the run may hold, in MiB
+  std::vector<std::string> ptys;  // UART devices ("robot.mcu.device") given to the host as pseudo-terminals
+  std::vector<std::string> cans;  // CAN buses bridged to SocketCAN ("bus=interface")
+  std::optional<double> realtime;  // run no faster than this many times real time
+  std::optional<std::string> lcm_url;  // publish on LCM at this URL (--lcm)
+  std::string lcm_log;                 // write what is published into this LCM event log (--lcm-log)
+  double lcm_rate_hz = 50;             // POSE and CLOCK messages per simulated second
+  double lcm_batch_rate_hz = 10;       // READING, TX/RX and CAN batches per simulated second
+  std::int64_t lcm_lockstep = 0;       // wait for the controller's DRIVE every this many steps; 0: never
+  double lcm_timeout_s = 5;            // host seconds a lockstep controller may stay silent
+  std::string junit;                   // a JUnit report of the expectations, written here
+  std::optional<double> timeout_s;     // sim seconds after which pending expectations fail
+  bool go_on = false;                  // run to the end even once every expectation is decided
+  bool plots = true;                   // draw OUT/plot_*.png once the run is over (also off with SEAR_NO_PLOTS=1)
 };
+
+// `sear run`'s exit code when an expectation failed (1: bad input, 3: an MCU stopped, 4: physics
+// failed, 6: an LCM controller went away, 128 + signal: interrupted).
+inline constexpr int kExpectationFailedExitCode = 5;
 
 // A project argument as the user typed it -> the project file to load.
 std::string resolve_project_path(const std::string& argument);
@@ -30,10 +48,41 @@ struct ProjectDesc;
 // description. Throws FirmwareBuildError with the compiler's messages.
 void build_project_firmware(ProjectDesc& project, bool quiet);
 int check_command(const std::string& project);
-// Lists the device kinds of the table, with their wiring and parameters.
-int sensors_command();
+// Lists the device kinds of the table, with their wiring and parameters: as text, as a JSON list
+// (one object per kind, for tools) or as README's Markdown reference.
+enum class SensorsFormat { Text, Json, Markdown };
+int sensors_command(SensorsFormat format);
 // Prints the world-building errors in `text` (one per line), the first hundred and a count, as
 // the loader's; returns how many there were.
 std::size_t print_world_errors(const std::string& path, const std::string& text);
+
+// `sear test DIR`: every scenario under DIR, over seeds, in parallel or sharded, one JUnit report.
+struct TestOptions {
+  std::string dir;
+  std::size_t jobs = 1;                // runs at once (the default is set with the option)
+  std::string seeds;                   // "A..B": each scenario once per seed; empty: once, with its own
+  std::string shard;                   // "K/N": only the cases i with i % N == K - 1
+  std::string junit;                   // the suite's JUnit report, written here
+  std::string out_dir = "sear-test-out";
+  std::optional<double> timeout_s;     // passed on to each run
+  std::vector<std::string> merge;      // OUT IN...: join shard reports instead of running
+};
+}  // namespace sear
+namespace CLI {
+class App;
+}  // namespace CLI
+namespace sear {
+// Declares `sear test` and its options on `app`, filling `options` when parsed.
+CLI::App* add_test_subcommand(CLI::App& app, TestOptions& options);
+int test_command(const TestOptions& options);
+
+// `sear new DIR`: a project from assets/templates/TEMPLATE, into a new or empty folder.
+struct NewOptions {
+  std::string dir;
+  std::string template_name = "avoider";
+  std::string name;  // empty: the folder's name
+};
+std::vector<std::string> project_templates();  // the template names, sorted
+int new_command(const NewOptions& options);
 
 }  // namespace sear

@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "scene/description.hpp"
+#include "lcm/lcm_channels.hpp"
 #include "sear/commands.hpp"
 
 namespace {
@@ -53,7 +54,8 @@ int main(int argc, char** argv) {
   sear::RunOptions run;
   CLI::App* run_cmd = app.add_subcommand("run", "Run a project headless and write its trace and summary");
   run_cmd->add_option("project", run.project,
-                      "Project file, or a folder holding project.xml (default: the bundled default project)");
+                      "Project file, a folder holding project.xml, or a scenario file naming a project (default: the bundled "
+                      "default project)");
   run_cmd->add_option("-d,--duration", run.duration_s, "Simulated seconds to run (default: the project's <run duration>)")
       ->check(finite_number(0, sear::kMaxTime_s, true, "a number of seconds > 0 and <= 1e7"));
   run_cmd->add_option("-s,--seed", run.seed, "Random seed (default: the project's <run seed>)")->check(seed_number());
@@ -72,6 +74,68 @@ int main(int argc, char** argv) {
       ->check(finite_number(0.001, 1048576.0, false, "a size in MiB 0.001..1048576"));
   run_cmd->add_flag("--keep-going", run.keep_going,
                     "When a firmware crashes, exits or hangs, go on without that MCU (the run still fails at the end)");
+  run_cmd->add_option("--junit", run.junit,
+                      "Write the expectations' verdicts as a JUnit XML report (one test case each, the console logs "
+                      "attached); exit code 5 when one failed")
+      ->type_name("FILE");
+  run_cmd->add_option("--timeout", run.timeout_s,
+                      "Sim seconds after which expectations still pending fail (default: the scenario's timeout); "
+                      "with expectations the run lasts this long unless --duration says otherwise")
+      ->check(finite_number(0, sear::kMaxTime_s, true, "a number of seconds > 0 and <= 1e7"));
+  run_cmd->add_flag("--go-on", run.go_on, "Run to the end even once every expectation is decided");
+  run_cmd->add_flag("!--no-plots", run.plots,
+                    "Do not draw the plots (OUT/plot_*.png) after the run; SEAR_NO_PLOTS=1 in the environment does the same");
+  run_cmd->add_option("--pty", run.ptys,
+                      "Give a UART device (robot.mcu.device, e.g. rover.main.gps) to host programs as a pseudo-terminal "
+                      "instead of its MCU port; its path is printed and linked as OUT/robot.mcu.device.pty")
+      ->type_name("DEVICE");
+  run_cmd->add_option("--can", run.cans,
+                      "Bridge the project's CAN bus to the SocketCAN interface IFACE (vcan0, can0), both ways; "
+                      "BUS=IFACE picks one of several <can_bus>")
+      ->type_name("[BUS=]IFACE");
+  run_cmd->add_option("--realtime", run.realtime,
+                      "Run no faster than FACTOR times real time (default 1), for host programs with timeouts")
+      ->expected(0, 1)
+      ->default_str("1")
+      ->check(finite_number(0.001, 1e6, false, "a factor 0.001..1e6"));
+
+  run_cmd->add_option("--lcm", run.lcm_url,
+                      "Publish the run on LCM and take DRIVE and CONTROL messages (channels: see the README); "
+                      "a CONTROL reset starts the run over at t = 0, rewriting its output files")
+      ->expected(0, 1)
+      ->default_str(sear::kLcmDefaultUrl)
+      ->type_name("URL")
+      // Its value is optional, so `--lcm project.xml` would take the project for the URL.
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            if (text.find("://") != std::string::npos) return {};
+            return fmt::format("'{}' is not an LCM URL (like {}); a project after --lcm is read as its URL: "
+                               "put --lcm after the project, or write --lcm=URL",
+                               text, sear::kLcmDefaultUrl);
+          },
+          "URL", "LCM_URL"));
+  run_cmd->add_option("--lcm-log", run.lcm_log,
+                      "Write every message the run publishes into this LCM event log (lcm-logplayer replays it), "
+                      "with or without --lcm")
+      ->type_name("FILE");
+  run_cmd->add_option("--lcm-rate", run.lcm_rate_hz,
+                      "POSE and CLOCK messages per simulated second; DRIVE and CONTROL are taken as often "
+                      "(OUTPUTS go out when a pin changed)")
+      ->capture_default_str()
+      ->check(finite_number(0.01, 1e6, false, "a rate of 0.01..1e6 Hz"));
+  run_cmd->add_option("--lcm-batch-rate", run.lcm_batch_rate_hz,
+                      "READING, TX/RX and CAN messages per simulated second, each carrying every sample, byte or "
+                      "frame since the last with its own time")
+      ->capture_default_str()
+      ->check(finite_number(0.01, 1e6, false, "a rate of 0.01..1e6 Hz"));
+  run_cmd->add_option("--lcm-lockstep", run.lcm_lockstep,
+                      "Every N steps publish the CLOCK and wait for the DRIVE answering it for each robot without an MCU")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{INT32_MAX}))
+      ->type_name("N");
+  run_cmd->add_option("--lcm-timeout", run.lcm_timeout_s,
+                      "Host seconds a lockstep controller may stay silent before the run ends (exit code 6)")
+      ->capture_default_str()
+      ->check(finite_number(0.01, 86400.0, false, "a number of seconds 0.01..86400"));
 
   std::string check_project;
   CLI::App* check_cmd = app.add_subcommand("check", "Validate a project without running it; lists every error found");
@@ -79,9 +143,31 @@ int main(int argc, char** argv) {
 
   CLI::App* sensors_cmd =
       app.add_subcommand("sensors", "List every sensor and device a project's <mcu> can hold, with its wiring and parameters");
+  auto sensors_format = sear::SensorsFormat::Text;
+  CLI::Option* sensors_json = sensors_cmd->add_flag_callback(
+      "--json", [&] { sensors_format = sear::SensorsFormat::Json; }, "Print a JSON list, one object per kind, for tools");
+  sensors_cmd
+      ->add_flag_callback(
+          "--markdown", [&] { sensors_format = sear::SensorsFormat::Markdown; },
+          "Print the reference README holds between its `sear sensors --markdown` markers")
+      ->excludes(sensors_json);
+
+  sear::TestOptions test;
+  CLI::App* test_cmd = sear::add_test_subcommand(app, test);
+
+  sear::NewOptions new_project;
+  CLI::App* new_cmd = app.add_subcommand("new", "Write a new project (firmware, project file with expectations, CMake "
+                                                "build for the simulator and the ATmega2560) into a new or empty folder");
+  new_cmd->add_option("dir", new_project.dir, "The folder to write; it must not exist or be empty")->required();
+  new_cmd->add_option("-t,--template", new_project.template_name, "What the firmware does")
+      ->capture_default_str()
+      ->check(CLI::IsMember(sear::project_templates()));
+  new_cmd->add_option("-n,--name", new_project.name, "The project's name (default: the folder's)");
 
   CLI11_PARSE(app, argc, argv);
+  if (new_cmd->parsed()) return sear::new_command(new_project);
+  if (test_cmd->parsed()) return sear::test_command(test);
   if (run_cmd->parsed()) return sear::run_command(run);
-  if (sensors_cmd->parsed()) return sear::sensors_command();
+  if (sensors_cmd->parsed()) return sear::sensors_command(sensors_format);
   return sear::check_command(check_project);
 }

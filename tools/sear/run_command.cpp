@@ -7,16 +7,27 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <thread>
 
+#include "exporters/can_logs.hpp"
 #include "exporters/mcu_capture.hpp"
+#include "exporters/plot_runner.hpp"
+#include "exporters/sensor_csv.hpp"
+#include "exporters/world_json.hpp"
 #include "exporters/run_summary.hpp"
 #include "exporters/stdout_text.hpp"
+#include "expect/expectation_checker.hpp"
+#include "expect/junit_report.hpp"
+#include "expect/scenario_loader.hpp"
 #include "exporters/trace_csv.hpp"
 #include "runtime/process_keeper.hpp"
 #include "runtime/stop_request.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
 #include "sear/firmware_builder.hpp"
+#include "sear/host_ports.hpp"
+#include "lcm/lcm_bridge.hpp"
 
 namespace sear {
 namespace {
@@ -60,6 +71,19 @@ std::vector<std::string> note_truncated_host_logs(const std::string& out_dir, co
   return truncated;
 }
 
+// Every MCU's console log as written, for the JUnit report's system-out.
+std::string console_logs(const std::string& out_dir, const std::vector<McuCapture::Mcu>& mcus) {
+  std::string text;
+  for (const auto& m : mcus) {
+    if (m.console_uart < 0) continue;
+    std::ifstream in(out_dir + "/" + m.id + ".console.log", std::ios::binary);
+    std::ostringstream log;
+    log << in.rdbuf();
+    text += fmt::format("== {} console ==\n{}", m.id, log.str());
+  }
+  return text;
+}
+
 }  // namespace
 
 int run_command(const RunOptions& options) {
@@ -68,12 +92,24 @@ int run_command(const RunOptions& options) {
   install_stop_signals();
   keeper_start();
   Diagnostics diagnostics;
-  const std::string path = resolve_project_path(options.project);
-  auto project = load_project(path, diagnostics);
-  if (!project) {
+  // A scenario file names its project; a project file is its own scenario (with the expectations
+  // of its <expect>, if any).
+  auto scenario = load_scenario(resolve_project_path(options.project), diagnostics);
+  if (!scenario) {
     fmt::print(stderr, "{}", diagnostics.joined());
     return 1;
   }
+  const std::string path = scenario->project_file;
+  auto project = load_project(path, diagnostics);
+  if (!project || !check_scenario(*scenario, *project, diagnostics)) {
+    fmt::print(stderr, "{}", diagnostics.joined());
+    return 1;
+  }
+  if (options.timeout_s) scenario->timeout_ns = std::llround(*options.timeout_s * 1e9);
+  const bool expecting = !scenario->expectations.empty();
+  // With expectations the run lasts until their timeout, unless told otherwise.
+  if (expecting && scenario->timeout_ns) project->run.duration_s = static_cast<double>(*scenario->timeout_ns) * 1e-9;
+  if (scenario->seed) project->run.seed = *scenario->seed;
   if (options.duration_s) project->run.duration_s = *options.duration_s;
   if (options.seed) project->run.seed = *options.seed;
   if (options.trace_rate_hz) project->run.trace_rate_hz = *options.trace_rate_hz;
@@ -91,6 +127,19 @@ int run_command(const RunOptions& options) {
 
   try {
     std::filesystem::create_directories(options.out_dir);
+    write_world_json(options.out_dir + "/world.json", *project);
+    std::unique_ptr<LcmBridge> lcm;
+    if (options.lcm_url || !options.lcm_log.empty() || options.lcm_lockstep > 0)
+      lcm = std::make_unique<LcmBridge>(
+          LcmOptions{options.lcm_url, options.lcm_log, options.lcm_rate_hz, options.lcm_batch_rate_hz,
+                     options.lcm_lockstep, options.lcm_timeout_s});
+    // Opened once: a host program keeps its pty or interface across a reset.
+    const HostPorts host_ports(*project, options.ptys, options.cans, options.out_dir);
+    for (const auto& port : host_ports.listing())
+      if (!options.quiet)
+        fmt::print(stderr, "sear: {} on the host: {}{}\n", port.name, port.path,
+                   port.link.empty() ? "" : " (link " + port.link + ")");
+  start_over:  // SEAR/CONTROL's reset: the run is built again from here, at t = 0, its files rewritten
     Simulation sim(*project, project->run.seed);
     TraceCsv trace(options.out_dir, sim, max_file_bytes);
     std::vector<McuCapture::Mcu> mcus;
@@ -98,24 +147,51 @@ int run_command(const RunOptions& options) {
       for (const auto& mcu : robot.mcus) mcus.push_back({robot.name + "." + mcu.name, mcu.console_uart});
     McuCapture capture(options.out_dir, mcus, !options.quiet, max_file_bytes);
     LockstepOptions lockstep_options;
+    lockstep_options.mcu.host_serial = host_ports.serial_ends();
     lockstep_options.out_dir = options.out_dir;
     lockstep_options.mcu.hang_timeout_s = options.hang_timeout_s;
     lockstep_options.mcu.max_file_bytes = max_file_bytes;
     lockstep_options.keep_going = options.keep_going;
+    CanLogs can_logs(options.out_dir, project->can_buses, max_file_bytes);
+    RunTaps taps;
+    if (!project->can_buses.empty()) taps.add(&can_logs);
+    if (lcm) taps.add(lcm.get());
+    SensorCsv sensors(options.out_dir, *project, 1.0 / project->run.trace_rate_hz, max_file_bytes);
+    taps.add(&sensors);
+    std::unique_ptr<ExpectationChecker> checker;
+    if (expecting) {
+      checker = std::make_unique<ExpectationChecker>(*scenario, *project);
+      taps.add(checker.get());
+    }
+    lockstep_options.mcu.tap = taps.empty() ? nullptr : &taps;
     Lockstep lockstep(sim, *project, lockstep_options, capture);
+    host_ports.attach_can(lockstep);
+    if (lcm) lcm->start_run(sim, *project);
     const std::int64_t end_ns = std::llround(project->run.duration_s * 1e9);
     const std::int64_t trace_every =
         std::max<std::int64_t>(1, std::llround(1e9 / project->run.trace_rate_hz / static_cast<double>(sim.step_ns())));
 
     const bool show_progress = !options.quiet && isatty(STDERR_FILENO);
     const auto start = Clock::now();
+    auto pace_start = start;  // --realtime's reference: sim time 0 on the wall clock
     double next_progress_s = 2.0;  // short runs finish before a progress line would help
 
     trace.write_row(sim);
     std::int64_t steps = 0;
     std::size_t stops_reported = 0, events_reported = 0;
     bool physics_failed = false;
+    bool reset = false, controller_gone = false;
     while (sim.time_ns() < end_ns && !stop_requested()) {
+      if (lcm) {
+        const LcmBridge::Gate gate = lcm->before_step();
+        if (gate == LcmBridge::Gate::Reset) reset = true;
+        if (gate == LcmBridge::Gate::ControllerGone) {
+          if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
+          fmt::print(stderr, "sear: {}\n", lcm->failure());
+          controller_gone = true;
+        }
+        if (gate != LcmBridge::Gate::Step) break;
+      }
       bool go_on = false;
       try {
         go_on = lockstep.step();
@@ -127,6 +203,7 @@ int run_command(const RunOptions& options) {
         break;
       }
       capture.advance_to(sim.time_ns());
+      if (lcm) lcm->after_step();
       // A robot that left the world is reported at that moment; its MCUs end with it.
       for (; events_reported < sim.robot_events().size(); ++events_reported) {
         const RobotEvent& e = sim.robot_events()[events_reported];
@@ -135,12 +212,24 @@ int run_command(const RunOptions& options) {
         if (e.stops_robot) lockstep.retire_robot(e.robot);
       }
       for (; stops_reported < lockstep.stops().size(); ++stops_reported) {
+        const McuStop& stop = lockstep.stops()[stops_reported];
         if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
-        fmt::print(stderr, "sear: {} (its output: {}/{}.host.log)\n", describe(lockstep.stops()[stops_reported]),
-                   options.out_dir, lockstep.stops()[stops_reported].mcu);
+        fmt::print(stderr, "sear: {} (its output: {}/{}.host.log)\n", describe(stop), options.out_dir, stop.mcu);
+        if (checker) checker->mcu_stopped(stop.mcu, stop.failure.time_ns, describe(stop));
       }
       if (!go_on) break;
+      // Every verdict known: nothing the run could still do changes the outcome.
+      if (checker && checker->decided() && !options.go_on) break;
       if (++steps % trace_every == 0) trace.write_row(sim);
+      // Paced for host programs with timeouts of their own: never ahead of the wall clock.
+      // A run that fell behind (paused over LCM, or slower than asked) goes on from where it is
+      // rather than racing to catch up.
+      if (options.realtime) {
+        const double ahead_s = sim.time_s() / *options.realtime - seconds_since(pace_start);
+        if (ahead_s > 0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead_s));
+        else if (ahead_s < -0.1) pace_start = Clock::now() - std::chrono::duration_cast<Clock::duration>(
+                                                               std::chrono::duration<double>(sim.time_s() / *options.realtime));
+      }
       if (show_progress && (steps & 1023) == 0 && seconds_since(start) >= next_progress_s) {
         next_progress_s += 0.5;
         const double wall = seconds_since(start);
@@ -149,9 +238,25 @@ int run_command(const RunOptions& options) {
       }
     }
     if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
+    if (reset) {
+      fmt::print(stderr, "sear: reset by SEAR/CONTROL: the run starts over at t = 0\n");
+      goto start_over;
+    }
+    if (lcm) lcm->finish();
     trace.flush();
+    sensors.flush();
     capture.finish(sim.time_ns());
     const bool interrupted = stop_requested();
+    if (checker) {
+      checker->finish(sim.time_ns());
+      for (const auto& r : checker->results())
+        if (r.verdict == Verdict::Failed) fmt::print(stderr, "sear: {}\n", failure_text(r));
+    }
+    if (!options.junit.empty()) {
+      const ExpectationChecker none(*scenario, *project);
+      write_junit(options.junit, {junit_suite(*scenario, project->run.seed, checker ? *checker : none, sim.time_ns(),
+                                              console_logs(options.out_dir, mcus))});
+    }
 
     RunOutcome outcome;
     outcome.project_file = path;
@@ -159,12 +264,20 @@ int run_command(const RunOptions& options) {
     outcome.seed = project->run.seed;
     outcome.wall_time_s = seconds_since(start);
     outcome.mcu_stops = lockstep.stops();
+    outcome.host_ports = host_ports.listing();
     outcome.status = interrupted        ? "interrupted"
                      : physics_failed   ? "physics failed"
                      : !outcome.mcu_stops.empty() ? "mcu stopped"
                                                   : "completed";
+    if (controller_gone) outcome.status = "lcm controller gone";
+    if (checker)
+      for (const auto& r : checker->results())
+        outcome.expectations.push_back({r.expectation->name, r.verdict == Verdict::Passed ? "passed" : "failed",
+                                        static_cast<double>(r.time_ns) * 1e-9, r.seen});
     std::vector<const BoundedFile*> outputs = trace.outputs();
     for (const auto* f : capture.outputs()) outputs.push_back(f);
+    for (const auto* f : can_logs.outputs()) outputs.push_back(f);
+    for (const auto* f : sensors.outputs()) outputs.push_back(f);
     for (const auto* f : outputs)
       if (f->truncated()) outcome.truncated_files.push_back(f->path());
     for (auto& log : note_truncated_host_logs(options.out_dir, mcus, max_file_bytes))
@@ -179,11 +292,17 @@ int run_command(const RunOptions& options) {
       for (const auto* f : outputs) listing += ", " + std::filesystem::path(f->path()).filename().string();
       print_to_stdout(text + listing + ")\n");
     }
+    // After everything is on disk, from those files: a plot that fails costs a warning, never the run.
+    const char* no_plots = std::getenv("SEAR_NO_PLOTS");
+    if (options.plots && !(no_plots && *no_plots && std::string(no_plots) != "0") && !interrupted)
+      write_plots(options.out_dir);
     if (interrupted) {
       fmt::print(stderr, "sear: {}\n", interrupted_status());
       return interrupted_exit_code();
     }
     if (physics_failed) return 4;
+    if (controller_gone) return kLcmControllerGoneExitCode;
+    if (checker && !checker->passed()) return kExpectationFailedExitCode;
     return outcome.mcu_stops.empty() ? 0 : 3;
   } catch (const PlacementError& e) {
     print_world_errors(path, e.what());

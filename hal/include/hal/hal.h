@@ -11,5 +11,6 @@
 #include <hal/spi.h>
 #include <hal/i2c.h>
 #include <hal/irq.h>
+#include <hal/can.h>
 
 #endif

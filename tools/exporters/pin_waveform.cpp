@@ -1,0 +1,225 @@
+#include "exporters/pin_waveform.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cstring>
+
+namespace sear {
+namespace {
+
+// VCD identifiers are printable characters '!'..'~' (IEEE 1364 section 18.2.1): pin n keeps its
+// one character '!' + n, as before; the variables after the pins count on in base 94.
+std::string vcd_id(int n) {
+  std::string id;
+  do {
+    id += static_cast<char>('!' + n % 94);
+    n /= 94;
+  } while (n);
+  return id;
+}
+
+constexpr int kPwmBits = 8;     // pwm_write's duty, 0..255
+constexpr int kServoBits = 12;  // servo_write_us's pulse, at most 2600 us
+constexpr int kUartBits = 8;    // 8N1
+
+}  // namespace
+
+bool PinWaveform::has_pwm(int pin) { return (pin >= 2 && pin <= 13) || (pin >= 44 && pin <= 46); }
+
+bool PinWaveform::has_servo(int pin) {
+  return pin == 2 || pin == 3 || pin == 5 || pin == 6 || pin == 7 || pin == 8 || pin == 11 || pin == 12 ||
+         (pin >= 44 && pin <= 46);
+}
+
+PinWaveform::PinWaveform(BoundedFile& file, const std::string& mcu_id, bool uart_bytes)
+    : file_(file), uart_bytes_(uart_bytes) {
+  std::string header = fmt::format(
+      "$comment SEAR pin levels, PWM duties (0..255), servo pulses (us){} of mcu {} $end\n"
+      "$timescale 1 ns $end\n$scope module {} $end\n",
+      uart_bytes_ ? " and UART bytes" : "", mcu_id, mcu_id);
+  std::string initial;
+  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) {
+    header += fmt::format("$var wire 1 {} D{} $end\n", vcd_id(pin), pin);
+    initial += fmt::format("z{}\n", vcd_id(pin));
+  }
+  int next = SEAR_LINK_PINS;
+  auto declare = [&](int bits, const std::string& name) {
+    std::string id = vcd_id(next++);
+    header += fmt::format("$var reg {} {} {} $end\n", bits, id, name);
+    initial += fmt::format("bz {}\n", id);
+    return id;
+  };
+  // The UART lines first: they change most often, and so get one-character identifiers.
+  for (int port = 0; port < kPorts && uart_bytes_; ++port) {
+    lines_[2 * port].id = declare(kUartBits, fmt::format("uart{}_tx", port));
+    lines_[2 * port + 1].id = declare(kUartBits, fmt::format("uart{}_rx", port));
+  }
+  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) {
+    duty_[pin] = servo_[pin] = -1;
+    if (has_pwm(pin)) duty_id_[pin] = declare(kPwmBits, fmt::format("D{}_pwm", pin));
+    if (has_servo(pin)) servo_id_[pin] = declare(kServoBits, fmt::format("D{}_servo_us", pin));
+  }
+  header += "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n" + initial + "$end\n";
+  file_.write(header);
+}
+
+void PinWaveform::put(const char* bytes, std::size_t n) {
+  if (text_len_ + n > sizeof text_) flush_text();
+  std::memcpy(text_ + text_len_, bytes, n);
+  text_len_ += n;
+}
+
+// Events reach here sorted by time; a VCD whose time ran backwards would be unreadable, so a
+// change that came late is kept at the latest time written rather than breaking the file.
+void PinWaveform::stamp(std::int64_t time_ns) {
+  end_bytes(time_ns);
+  if (time_ns <= last_ns_) return;
+  last_ns_ = time_ns;
+  char line[24] = "#";
+  char* end = std::to_chars(line + 1, line + sizeof line - 1, time_ns).ptr;
+  *end++ = '\n';
+  put(line, static_cast<std::size_t>(end - line));
+}
+
+void PinWaveform::level(std::int64_t time_ns, int pin, char value) {
+  stamp(time_ns);
+  const char line[3] = {value, static_cast<char>('!' + pin), '\n'};
+  put(line, 3);
+}
+
+void PinWaveform::vector(std::int64_t time_ns, const std::string& id, int value) {
+  stamp(time_ns);
+  char line[48] = "bz";
+  char* end = line + 2;
+  // Binary without leading zeros, which a reader extends with zeros (section 18.2.1).
+  if (value >= 0) end = std::to_chars(line + 1, line + 20, value, 2).ptr;
+  *end++ = ' ';
+  const std::size_t n = std::min(id.size(), sizeof line - 21);  // ids are at most 2 characters
+  std::memcpy(end, id.data(), n);
+  end += n;
+  *end++ = '\n';
+  put(line, static_cast<std::size_t>(end - line));
+}
+
+void PinWaveform::flush_text() {
+  if (!text_len_) return;
+  file_.write(std::string_view(text_, text_len_));
+  text_len_ = 0;
+}
+
+// Back to back: this frame started at the last one's stop bit end, which with each end rounded
+// to the nanosecond is ten bit times later give or take 2 ns; half a bit allows that, and an
+// idle line between frames lasts at least a whole bit.
+bool PinWaveform::joins(const Line& line, std::int64_t time_ns, int value) {
+  return line.end_ns >= 0 && time_ns >= line.end_ns && time_ns <= line.end_ns + line.bit_ns * 3 / 2 &&
+         line.value != value;
+}
+
+void PinWaveform::byte(std::int64_t time_ns, int port, bool tx, std::uint8_t value) {
+  Line& line = lines_[2 * port + (tx ? 0 : 1)];
+  if (joins(line, time_ns, value)) line.end_ns = -1;  // no 'z' between
+  vector(time_ns, line.id, value);
+  // A byte before its port's baud is known (none on record) shows for a microsecond: 9 Mbaud.
+  const std::int64_t baud = baud_[port] ? baud_[port] : 9000000;
+  line.value = value;
+  line.bit_ns = (std::int64_t{1000000000} + baud / 2) / baud;
+  line.end_ns = time_ns + (kByteBits * std::int64_t{1000000000} + baud / 2) / baud;
+  next_end_ns_ = std::min(next_end_ns_, line.end_ns);
+}
+
+// Whether `line`'s next byte in the events not yet written joins it.
+bool PinWaveform::joined_ahead(const Line& line) const {
+  for (const sear_event* e = ahead_; e < ahead_end_; ++e) {
+    if ((e->kind != SEAR_EVENT_UART_TX && e->kind != SEAR_EVENT_UART_RX) || e->index >= kPorts) continue;
+    if (&lines_[2 * e->index + (e->kind == SEAR_EVENT_UART_TX ? 0 : 1)] == &line)
+      return joins(line, e->time_ns, static_cast<int>(e->value & 255));
+  }
+  return false;
+}
+
+// Writes the ends due by until_ns in time order, among themselves and before anything later.
+void PinWaveform::end_bytes(std::int64_t until_ns) {
+  while (next_end_ns_ <= until_ns) {
+    Line* first = nullptr;
+    next_end_ns_ = INT64_MAX;
+    for (auto& line : lines_) {
+      if (line.end_ns < 0) continue;
+      if (!first || line.end_ns < first->end_ns) first = &line;
+    }
+    if (!first) return;
+    if (first->end_ns > until_ns) {
+      next_end_ns_ = first->end_ns;
+      return;
+    }
+    const std::int64_t t = first->end_ns;
+    const bool joined = joined_ahead(*first);
+    first->end_ns = -1;
+    if (!joined) vector(t, first->id, -1);  // its stamp() finds this end written
+    for (const auto& line : lines_)
+      if (line.end_ns >= 0) next_end_ns_ = std::min(next_end_ns_, line.end_ns);
+  }
+}
+
+void PinWaveform::show(std::int64_t time_ns, int& shown, const std::string& id, int value) {
+  if (shown == value) return;
+  shown = value;
+  vector(time_ns, id, value);
+}
+
+void PinWaveform::write_one(const sear_event& e) {
+  const int i = e.index;
+  const auto value = static_cast<int>(e.value & 0xFFFF);  // a duty, a pulse or a byte
+  switch (e.kind) {
+    case SEAR_EVENT_PIN:
+      if (i >= SEAR_LINK_PINS) return;
+      level(e.time_ns, i, value ? '1' : '0');
+      // After a pwm_write, a plain level is the duty it amounts to: pwm_write(pin, 0) and 255
+      // drive levels, as analogWrite() does, and a digital write ends the waveform.
+      if (pwm_started_[i]) show(e.time_ns, duty_[i], duty_id_[i], value ? 255 : 0);
+      break;
+    case SEAR_EVENT_PIN_MODE:
+      if (i >= SEAR_LINK_PINS || value == 1) return;  // an output's level follows as a PIN event
+      level(e.time_ns, i, 'z');                        // an input: the MCU drives nothing
+      pwm_started_[i] = false;
+      if (!duty_id_[i].empty()) show(e.time_ns, duty_[i], duty_id_[i], -1);
+      if (!servo_id_[i].empty()) show(e.time_ns, servo_[i], servo_id_[i], -1);
+      break;
+    case SEAR_EVENT_PWM:
+      if (i >= SEAR_LINK_PINS || duty_id_[i].empty()) return;
+      pwm_started_[i] = true;
+      show(e.time_ns, duty_[i], duty_id_[i], value & 255);
+      break;
+    case SEAR_EVENT_SERVO:  // 0: the pulses stopped
+      if (i >= SEAR_LINK_PINS || servo_id_[i].empty()) return;
+      show(e.time_ns, servo_[i], servo_id_[i], value & 4095);
+      break;
+    case SEAR_EVENT_UART_BEGIN:
+      if (i < kPorts) baud_[i] = e.value;
+      break;
+    case SEAR_EVENT_UART_TX:
+    case SEAR_EVENT_UART_RX:
+      if (i < kPorts && uart_bytes_) byte(e.time_ns, i, e.kind == SEAR_EVENT_UART_TX, static_cast<std::uint8_t>(value));
+      break;
+    default:
+      break;
+  }
+}
+
+void PinWaveform::write(const sear_event* events, std::size_t count) {
+  ahead_end_ = events + count;
+  // One file write per event, so that a file at its size limit stops within a line or two of it.
+  for (ahead_ = events; ahead_ < ahead_end_;) {
+    write_one(*ahead_++);
+    flush_text();
+  }
+  ahead_ = ahead_end_ = nullptr;
+}
+
+void PinWaveform::finish(std::int64_t end_ns) {
+  end_bytes(end_ns);
+  flush_text();
+}
+
+}  // namespace sear

@@ -1,0 +1,80 @@
+// One MCU's pins and ports as a VCD waveform (IEEE 1364 section 18), as a logic analyser would
+// show them: each pin's level, each PWM pin's duty, each servo pin's pulse width, and each UART
+// line's bytes. A VCD declares every variable before its first value, and which pins a firmware
+// drives is known only as it runs, so every pin and port the board has is declared up front.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "exporters/bounded_file.hpp"
+#include "lockstep_link.h"
+
+namespace sear {
+
+class PinWaveform {
+ public:
+  // The ATmega2560 board's pins with a timer output compare (PWM), and those on a 16-bit timer
+  // (servo pulses): hal/runtime/board.c refuses the rest, and waveform_test checks the two agree.
+  static bool has_pwm(int pin);
+  static bool has_servo(int pin);
+
+  // Writes the header to `file`, with every pin an input ('z') and nothing on any port at #0.
+  // Without `uart_bytes` the ports are left out: a port streaming at 500 kbaud adds about
+  // 1.2 MB a simulated second (some 23 bytes a byte), which can crowd the pins out of a file
+  // with a size limit.
+  PinWaveform(BoundedFile& file, const std::string& mcu_id, bool uart_bytes = true);
+
+  // A batch of the MCU's events, in time order with those before, written at once; the kinds
+  // the waveform does not show (CAN) are ignored.
+  void write(const sear_event* events, std::size_t count);
+  void write(const sear_event& e) { write(&e, 1); }
+  // The run or the MCU stopped at end_ns: writes the ends of bytes due by then (see below).
+  void finish(std::int64_t end_ns);
+
+ private:
+  // A byte's value shows from the end of its stop bit for nine bit times and then returns to 'z',
+  // so that two equal bytes back to back (one frame, ten bits, apart) stay apart by a bit of 'z'.
+  // Two different bytes back to back need no 'z' between them, and a port streaming at its baud
+  // would double the file with it: that end is left out when the line's next byte, different and
+  // back to back, is in the same batch; otherwise it waits for the next change or finish(), and
+  // is left out if that change is such a byte. So during a run the file may lack a last byte's
+  // end until something else changes.
+  static constexpr int kByteBits = 9;
+  static constexpr int kPorts = SEAR_LINK_UARTS;
+  struct Line {
+    std::string id;
+    int value = -1;            // shown, or last shown
+    std::int64_t bit_ns = 0;   // of the shown byte
+    std::int64_t end_ns = -1;  // when the shown byte returns to 'z'; -1: none pending
+  };
+
+  void stamp(std::int64_t time_ns);
+  void level(std::int64_t time_ns, int pin, char value);
+  void vector(std::int64_t time_ns, const std::string& id, int value);  // value < 0: 'z'
+  void show(std::int64_t time_ns, int& shown, const std::string& id, int value);  // if it changed
+  void write_one(const sear_event& e);
+  static bool joins(const Line& line, std::int64_t time_ns, int value);  // back to back, different
+  bool joined_ahead(const Line& line) const;
+  void byte(std::int64_t time_ns, int port, bool tx, std::uint8_t value);
+  void end_bytes(std::int64_t until_ns);
+  void put(const char* bytes, std::size_t n);
+  void flush_text();
+
+  BoundedFile& file_;
+  bool uart_bytes_;
+  std::int64_t last_ns_ = 0;  // the header's values are at #0
+  char text_[512];            // the changes of one event, written at once
+  std::size_t text_len_ = 0;
+  std::array<std::string, SEAR_LINK_PINS> duty_id_, servo_id_;  // empty: not such a pin
+  std::array<int, SEAR_LINK_PINS> duty_{}, servo_{};            // shown; -1: 'z'
+  std::array<bool, SEAR_LINK_PINS> pwm_started_{};              // since the pin last became an output
+  std::array<std::uint32_t, kPorts> baud_{};
+  std::array<Line, 2 * kPorts> lines_;  // port n: tx at 2n, rx at 2n + 1
+  std::int64_t next_end_ns_ = INT64_MAX;
+  const sear_event* ahead_ = nullptr;  // the batch's events not yet written
+  const sear_event* ahead_end_ = nullptr;
+};
+
+}  // namespace sear

@@ -1,0 +1,71 @@
+#include "exporters/sensor_csv.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <iterator>
+
+#include "lcm/reading_meaning.hpp"
+#include "scene/device_kind.hpp"
+
+namespace sear {
+
+SensorCsv::SensorCsv(const std::string& folder, const ProjectDesc& project, double period_s,
+                     std::uint64_t max_file_bytes)
+    : period_ns_(std::llround(period_s * 1e9)) {
+  for (const RobotDesc& robot : project.robots) {
+    BoundedFile* file = nullptr;
+    for (const McuDesc& mcu : robot.mcus) {
+      Mcu m;
+      m.name = mcu.name;
+      for (const DeviceDesc& d : mcu.devices) m.devices.push_back({d.name, d.kind ? d.kind->element : ""});
+      // Only kinds with models in the firmware's process send samples.
+      bool samples = false;
+      for (const DeviceDesc& d : mcu.devices) samples = samples || (d.kind && d.kind->link_inputs > 0);
+      if (samples && !file) {
+        files_.push_back(std::make_unique<BoundedFile>(folder + "/sensors_" + robot.name + ".csv", max_file_bytes,
+                                                       text_truncation_note(max_file_bytes)));
+        file = files_.back().get();
+        file->write("time_s,mcu,device,quantity,unit,value\n");
+      }
+      m.file = samples ? file : nullptr;
+      mcus_.push_back(std::move(m));
+    }
+  }
+}
+
+void SensorCsv::on_sample(std::size_t mcu, std::size_t device, const sear_link_sample& sample) {
+  if (mcu >= mcus_.size() || !mcus_[mcu].file || device >= mcus_[mcu].devices.size()) return;
+  Mcu& m = mcus_[mcu];
+  Device& d = m.devices[device];
+  if (d.last_ns != INT64_MIN && sample.time_ns < d.last_ns + period_ns_) return;
+  d.last_ns = sample.time_ns;
+  const ReadingMeaning& meaning = reading_meaning(d.element);
+  std::string rows;
+  const std::size_t n = std::min<std::size_t>(meaning.quantity.size(), SEAR_LINK_SAMPLE_VALUES);
+  for (std::size_t i = 0; i < n; ++i)
+    fmt::format_to(std::back_inserter(rows), "{:.9f},{},{},{},{},{}\n", static_cast<double>(sample.time_ns) * 1e-9,
+                   m.name, d.name, meaning.quantity[i], meaning.unit[i], sample.value[i]);
+  m.file->write(rows);
+  dirty_ = true;
+}
+
+// Flushed step by step, as the run's other files, so that a killed run keeps what it measured.
+void SensorCsv::on_step(const Simulation&) {
+  if (dirty_) flush();
+}
+
+void SensorCsv::flush() {
+  for (auto& f : files_) f->flush();
+  dirty_ = false;
+}
+
+std::vector<const BoundedFile*> SensorCsv::outputs() const {
+  std::vector<const BoundedFile*> out;
+  for (const auto& f : files_) out.push_back(f.get());
+  return out;
+}
+
+}  // namespace sear

@@ -1,0 +1,117 @@
+#include "sear/test_plan.hpp"
+
+#include <fmt/format.h>
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+
+namespace sear {
+namespace fs = std::filesystem;
+namespace {
+
+// The root element's name, "" when the file is not well-formed XML (`error` says why).
+std::string root_name(const fs::path& file, const tinyxml2::XMLElement** root, tinyxml2::XMLDocument& doc,
+                      std::string& error) {
+  if (doc.LoadFile(file.c_str()) != tinyxml2::XML_SUCCESS) {
+    error = fmt::format("{}:{}: {}", file.string(), doc.ErrorLineNum(), doc.ErrorStr());
+    return "";
+  }
+  *root = doc.RootElement();
+  return *root ? (*root)->Name() : "";
+}
+
+std::string relative_to(const fs::path& dir, const fs::path& p) {
+  const std::string rel = p.lexically_relative(dir).generic_string();
+  return rel.empty() ? "." : rel;
+}
+
+// A whole decimal number 0..2^64-1; strtoull alone takes "-1" and saturates past the top.
+std::optional<std::uint64_t> whole_number(const std::string& text) {
+  if (text.empty() || text.size() > 20 || text.find_first_not_of("0123456789") != std::string::npos)
+    return std::nullopt;
+  errno = 0;
+  const unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);
+  if (errno == ERANGE) return std::nullopt;
+  return static_cast<std::uint64_t>(v);
+}
+
+// More runs than a night holds even for the fastest scenario; a typo such as 1..10000000000 is caught.
+constexpr std::uint64_t kMaxSeeds = 1000000;
+
+}  // namespace
+
+std::vector<FoundScenario> find_scenarios(const fs::path& dir, const fs::path& skip,
+                                          std::vector<std::string>& warnings) {
+  std::vector<FoundScenario> found;
+  std::error_code ec;
+  const fs::path skip_canonical = fs::weakly_canonical(skip, ec);
+  fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
+  if (ec) throw fs::filesystem_error("cannot list the scenario folder", dir, ec);
+  for (; it != end; it.increment(ec)) {
+    if (ec) throw fs::filesystem_error("cannot list the scenario folder", dir, ec);
+    const fs::path& p = it->path();
+    const std::string filename = p.filename().string();
+    if (it->is_directory(ec)) {
+      if ((!filename.empty() && filename[0] == '.') || fs::weakly_canonical(p, ec) == skip_canonical)
+        it.disable_recursion_pending();
+      continue;
+    }
+    if (p.extension() != ".xml" || !it->is_regular_file(ec)) continue;
+    tinyxml2::XMLDocument doc;
+    const tinyxml2::XMLElement* root = nullptr;
+    std::string error;
+    const std::string kind = root_name(p, &root, doc, error);
+    if (!error.empty()) {
+      warnings.push_back(fmt::format("{} (not taken for a scenario)", error));
+    } else if (kind == "scenario") {
+      found.push_back({relative_to(dir, p), false});
+    } else if (kind == "project" && filename == "project.xml" && root->FirstChildElement("expect")) {
+      found.push_back({relative_to(dir, p.parent_path()), true});
+    }
+  }
+  std::sort(found.begin(), found.end(),
+            [](const FoundScenario& a, const FoundScenario& b) { return a.path < b.path; });
+  return found;
+}
+
+std::optional<SeedRange> parse_seed_range(const std::string& text, std::string& error) {
+  const auto dots = text.find("..");
+  const auto first = whole_number(text.substr(0, dots));
+  const auto last = dots == std::string::npos ? first : whole_number(text.substr(dots + 2));
+  if (first && last && *first <= *last && *last - *first < kMaxSeeds) return SeedRange{*first, *last};
+  error = fmt::format("expected seeds A..B, whole numbers with A <= B and at most {} seeds (or one seed), got '{}'",
+                      kMaxSeeds, text);
+  return std::nullopt;
+}
+
+std::optional<Shard> parse_shard(const std::string& text, std::string& error) {
+  const auto slash = text.find('/');
+  const auto k = whole_number(text.substr(0, slash));
+  const auto n = slash == std::string::npos ? std::nullopt : whole_number(text.substr(slash + 1));
+  if (k && n && *k >= 1 && *k <= *n) return Shard{static_cast<std::size_t>(*k), static_cast<std::size_t>(*n)};
+  error = fmt::format("expected a shard K/N with 1 <= K <= N, got '{}'", text);
+  return std::nullopt;
+}
+
+std::vector<TestCase> plan_cases(std::size_t scenarios, const std::optional<SeedRange>& seeds, const Shard& shard) {
+  std::vector<TestCase> cases;
+  std::size_t i = 0;
+  const auto add = [&](std::size_t scenario, std::optional<std::uint64_t> seed) {
+    if (i++ % shard.count == shard.index - 1) cases.push_back({scenario, seed});
+  };
+  for (std::size_t s = 0; s < scenarios; ++s) {
+    if (!seeds) {
+      add(s, std::nullopt);
+      continue;
+    }
+    for (std::uint64_t seed = seeds->first;; ++seed) {
+      add(s, seed);
+      if (seed == seeds->last) break;  // the range may end at 2^64-1
+    }
+  }
+  return cases;
+}
+
+}  // namespace sear

@@ -1,0 +1,50 @@
+// What `sear test DIR` runs: the scenarios found under a folder, the seeds each runs with, and the
+// share of the (scenario, seed) cases one shard takes, all in an order every machine agrees on.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sear {
+
+// One scenario under the suite's folder: a *.xml file whose root is <scenario>, or a folder whose
+// project.xml has an <expect> (then `path` names the folder; "." for the suite's folder itself).
+struct FoundScenario {
+  std::string path;  // relative to the suite's folder, '/'-separated
+  bool project_folder = false;
+};
+
+// Every scenario under `dir`, sorted by path (byte order), so every machine lists the same suite.
+// Hidden folders and `skip` (the output folder, when it lies inside) are not searched. A *.xml file
+// that is not well-formed XML is reported in `warnings` rather than silently taken for data.
+std::vector<FoundScenario> find_scenarios(const std::filesystem::path& dir, const std::filesystem::path& skip,
+                                          std::vector<std::string>& warnings);
+
+struct SeedRange {
+  std::uint64_t first = 0;
+  std::uint64_t last = 0;
+};
+// "A..B" (A <= B) or "A": whole decimal numbers. Empty and an error message when it is neither.
+std::optional<SeedRange> parse_seed_range(const std::string& text, std::string& error);
+
+struct Shard {
+  std::size_t index = 1;  // K, 1-based
+  std::size_t count = 1;  // N
+};
+// "K/N" with 1 <= K <= N.
+std::optional<Shard> parse_shard(const std::string& text, std::string& error);
+
+// One run: a scenario (index into the found list) with a seed from --seeds, or its own seed.
+struct TestCase {
+  std::size_t scenario = 0;
+  std::optional<std::uint64_t> seed;
+};
+
+// The cases of the whole suite, scenario by scenario and seed by seed, then the shard's share:
+// every case i with i % N == K - 1.
+std::vector<TestCase> plan_cases(std::size_t scenarios, const std::optional<SeedRange>& seeds, const Shard& shard);
+
+}  // namespace sear
