@@ -33,7 +33,10 @@ trap 'rm -rf "$ctl"' EXIT
 
 # Single quotes for busybox sh, which knows no $'...'.
 sh_quote() { printf "'%s'" "$(printf '%s' "$1" | sed "s/'/'\\\\''/g")"; }
-echo "out_dir=$(sh_quote "$out_dir")" >"$ctl/params"
+{
+  echo "out_dir=$(sh_quote "$out_dir")"
+  echo "caller_dir=$(sh_quote "$PWD")"
+} >"$ctl/params"
 {
   echo "export PATH=$(sh_quote "$PATH:/usr/sbin:/sbin") HOME=/tmp/home LANG=C.UTF-8"
   for name in CI $(compgen -e | grep '^SEAR_' || true); do
