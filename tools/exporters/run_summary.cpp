@@ -49,7 +49,8 @@ std::string summary_text(const Simulation& sim, const RunOutcome& o) {
                                      [](const auto& e) { return e.verdict == "passed"; }),
                        o.expectations.size());
   for (const auto& port : o.host_ports)
-    out += fmt::format("  {} on the host: {}{}\n", port.name, port.path, port.link.empty() ? "" : " (link " + port.link + ")");
+    out += fmt::format("  {} on the host: {}{}{}\n", port.name, port.path, port.link.empty() ? "" : " (link " + port.link + ")",
+                       port.dropped ? fmt::format(", {} dropped", port.dropped) : "");
   return out;
 }
 
@@ -100,7 +101,7 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
   for (const auto& e : o.expectations)
     j["expectations"].push_back({{"name", e.name}, {"verdict", e.verdict}, {"time_s", e.time_s}, {"seen", e.seen}});
   j["host_ports"] = nlohmann::ordered_json::array();
-  for (const auto& port : o.host_ports) j["host_ports"].push_back({{"name", port.name}, {"path", port.path}, {"link", port.link}});
+  for (const auto& port : o.host_ports) j["host_ports"].push_back({{"name", port.name}, {"path", port.path}, {"link", port.link}, {"dropped", port.dropped}});
   // Names are checked UTF-8 at load, but paths from the command line are the user's bytes: any
   // that are not UTF-8 are written with U+FFFD rather than losing the whole summary.
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";

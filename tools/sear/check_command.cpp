@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "expect/scenario_loader.hpp"
 #include "runtime/simulation.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
@@ -27,11 +28,14 @@ std::size_t print_world_errors(const std::string& path, const std::string& text)
 
 int check_command(const std::string& project) {
   Diagnostics diagnostics;
-  const std::string path = resolve_project_path(project);
-  auto loaded = load_project(path, diagnostics);
-  if (!loaded) {
+  // A scenario names its project; a project is checked with its own <expect>, if any.
+  const std::string argument = resolve_project_path(project);
+  const auto scenario = load_scenario(argument, diagnostics);
+  const std::string path = scenario ? scenario->project_file : argument;
+  auto loaded = scenario ? load_project(path, diagnostics) : std::nullopt;
+  if (!loaded || !check_scenario(*scenario, *loaded, diagnostics)) {
     fmt::print(stderr, "{}", diagnostics.joined());
-    print_count(path, diagnostics.count());
+    print_count(argument, diagnostics.count());
     return 1;
   }
   // Building the world finds what only the world knows, such as a robot placed off the terrain.

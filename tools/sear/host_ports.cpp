@@ -45,7 +45,7 @@ HostPorts::HostPorts(const ProjectDesc& project, const std::vector<std::string>&
     for (std::size_t p = 0; p < device.kind->params.size(); ++p)
       if (std::string(device.kind->params[p].attribute) == "baud") baud = static_cast<std::uint32_t>(device.values[p]);
     auto port = std::make_unique<PtyPort>(out_dir + "/" + name + ".pty", baud);
-    listing_.push_back({name, port->slave_path(), port->link_path()});
+    listing_.push_back({name, port->slave_path(), port->link_path(), 0});
     ptys_.emplace_back(name, std::move(port));
   }
   for (const auto& spec : cans) {
@@ -70,11 +70,19 @@ HostPorts::HostPorts(const ProjectDesc& project, const std::vector<std::string>&
     } catch (const SocketCanError& e) {
       throw std::runtime_error(fmt::format("--can {}: {}", spec, e.what()));
     }
-    listing_.push_back({"can_bus " + bus, iface, ""});
+    listing_.push_back({"can_bus " + bus, iface, "", 0});
   }
 }
 
 HostPorts::~HostPorts() = default;
+
+std::vector<RunOutcome::HostPort> HostPorts::final_listing() const {
+  std::vector<RunOutcome::HostPort> ports = listing_;
+  for (std::size_t i = 0; i < ptys_.size(); ++i)
+    ports[i].dropped = ptys_[i].second->dropped_unread() + ptys_[i].second->dropped_closed();
+  for (std::size_t i = 0; i < cans_.size(); ++i) ports[ptys_.size() + i].dropped = cans_[i].second->dropped();
+  return ports;
+}
 
 std::map<std::string, HostSerialEnd*> HostPorts::serial_ends() const {
   std::map<std::string, HostSerialEnd*> ends;

@@ -15,6 +15,9 @@
 
 namespace sear {
 
+class PtyPort;
+class SocketCanPort;
+
 class HostPorts {
  public:
   // `ptys`: "robot.mcu.device" of UART devices; `cans`: "bus=interface". Opens them all, or
@@ -27,10 +30,13 @@ class HostPorts {
   std::map<std::string, HostSerialEnd*> serial_ends() const;
   void attach_can(Lockstep& lockstep) const;
   const std::vector<RunOutcome::HostPort>& listing() const { return listing_; }
+  // The same, with what each end lost so far: a pty's bytes that nobody read or that came while
+  // nobody had it open, an interface's frames its kernel queue dropped.
+  std::vector<RunOutcome::HostPort> final_listing() const;
 
  private:
-  std::vector<std::pair<std::string, std::unique_ptr<HostSerialEnd>>> ptys_;
-  std::vector<std::pair<std::string, std::unique_ptr<HostCanEnd>>> cans_;
+  std::vector<std::pair<std::string, std::unique_ptr<PtyPort>>> ptys_;
+  std::vector<std::pair<std::string, std::unique_ptr<SocketCanPort>>> cans_;
   std::vector<RunOutcome::HostPort> listing_;
 };
 

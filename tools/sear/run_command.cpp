@@ -264,7 +264,7 @@ int run_command(const RunOptions& options) {
     outcome.seed = project->run.seed;
     outcome.wall_time_s = seconds_since(start);
     outcome.mcu_stops = lockstep.stops();
-    outcome.host_ports = host_ports.listing();
+    outcome.host_ports = host_ports.final_listing();
     outcome.status = interrupted        ? "interrupted"
                      : physics_failed   ? "physics failed"
                      : !outcome.mcu_stops.empty() ? "mcu stopped"
