@@ -14,6 +14,7 @@
 
 #include "runtime/can_bus.hpp"
 #include "runtime/can_state_broadcast.hpp"
+#include "command_output.hpp"
 #include "temp_dir.hpp"
 
 namespace sear {
@@ -26,17 +27,6 @@ std::string read_file(const std::string& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-std::string run(const std::string& command) {
-  std::string out;
-  FILE* p = popen(command.c_str(), "r");
-  if (!p) return out;
-  char buf[4096];
-  std::size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  pclose(p);
-  return out;
 }
 
 TEST(CanBroadcast, DbcFileIsTheEncodersTable) {
@@ -80,7 +70,7 @@ for line in open(sys.argv[2]):
         print("SIG", ident, name, repr(float(value.phys_value)))
 )");
   // Debian's interpreter, where python3-canmatrix is installed (not a pyenv shim on PATH).
-  const std::string out = run("/usr/bin/python3 '" + script + "' '" SEAR_DBC_FILE "' '" + frames_path + "' 2>&1");
+  const std::string out = test::command_output("/usr/bin/python3 '" + script + "' '" SEAR_DBC_FILE "' '" + frames_path + "' 2>&1").out;
   std::map<std::uint32_t, std::map<std::string, double>> decoded;
   std::istringstream lines(out);
   std::string tag, name;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "exporters/candump_log.hpp"
+#include "command_output.hpp"
 #include "temp_dir.hpp"
 
 namespace sear {
@@ -40,14 +41,7 @@ TEST(CandumpLog, LinesAsCandumpWritesThem) {
 }
 
 std::string log2long(const std::string& path) {
-  std::string out;
-  FILE* p = popen(("/usr/bin/log2long < '" + path + "' 2>&1").c_str(), "r");
-  if (!p) return out;
-  char buf[4096];
-  std::size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  pclose(p);
-  return out;
+  return test::command_output("/usr/bin/log2long < '" + path + "' 2>&1").out;
 }
 
 TEST(CandumpLog, Log2longReadsTheFile) {

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "devices/gnss_error.h"
+#include "command_output.hpp"
 #include "firmware_run.hpp"
 #include "pty/line_speed.hpp"
 #include "pty/pty_port.hpp"
@@ -273,15 +274,7 @@ class BackgroundRun {
   pid_t pid_ = -1;
 };
 
-std::string run_output(const std::string& cmd) {
-  std::string out;
-  if (FILE* p = ::popen(cmd.c_str(), "r")) {
-    char buf[4096];
-    while (std::fgets(buf, sizeof buf, p)) out += buf;
-    ::pclose(p);
-  }
-  return out;
-}
+std::string run_output(const std::string& cmd) { return sear::test::command_output(cmd).out; }
 
 // A TCP port on 127.0.0.1 that nothing listens on now (the kernel's pick for port 0).
 int free_loopback_port() {

@@ -12,6 +12,7 @@
 #include <regex>
 #include <string>
 
+#include "command_output.hpp"
 #include "temp_dir.hpp"
 
 namespace sear {
@@ -19,22 +20,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
+using Result = test::CommandOutput;  // out: standard output and error together
 
 // Runs a shell command; every path quoted in it is a temporary folder's, which holds no quote.
-Result shell(const std::string& command) {
-  Result result;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return result;
-  char buffer[4096];
-  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) result.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+Result shell(const std::string& command) { return test::command_output(command + " 2>&1"); }
 
 std::string in_quotes(const fs::path& path) { return "'" + path.string() + "'"; }
 
@@ -88,7 +77,7 @@ class SearNew : public ::testing::TestWithParam<const char*> {
     const std::string name = std::string("probe_") + GetParam();
     const fs::path dir = temp_.path() / name;
     const Result made = shell(sear("new " + in_quotes(dir) + " --template " + GetParam()));
-    EXPECT_EQ(made.exit_code, 0) << made.output;
+    EXPECT_EQ(made.exit_code, 0) << made.out;
     return dir;
   }
   test::TempDir temp_;
@@ -113,7 +102,7 @@ TEST_P(SearNew, WritesAProjectWhoseExpectationsPass) {
   ASSERT_GE(expected, 3) << "a template shows a new user how to write expectations";
   const fs::path report = temp_.path() / "report.xml";
   const Result run = short_run(dir, temp_.path());
-  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.exit_code, 0) << run.out;
   const Verdicts v = junit_verdicts(report);
   EXPECT_EQ(v.tests, expected) << read_file(report);
   EXPECT_EQ(v.failures, 0) << read_file(report);
@@ -124,10 +113,10 @@ TEST_P(SearNew, CMakeBuildsTheFirmwareForTheSimulatorAndItRuns) {
   const std::string name = dir.filename().string();
   const fs::path build = temp_.path() / "build";
   const Result configured = shell(std::string(CMAKE_COMMAND) + " -S " + in_quotes(dir) + " -B " + in_quotes(build));
-  ASSERT_EQ(configured.exit_code, 0) << configured.output;
+  ASSERT_EQ(configured.exit_code, 0) << configured.out;
   const Result built = shell(std::string(CMAKE_COMMAND) + " --build " + in_quotes(build));
-  ASSERT_EQ(built.exit_code, 0) << built.output;
-  EXPECT_EQ(built.output.find("warning"), std::string::npos) << built.output;
+  ASSERT_EQ(built.exit_code, 0) << built.out;
+  EXPECT_EQ(built.out.find("warning"), std::string::npos) << built.out;
   ASSERT_TRUE(fs::is_regular_file(build / name));
 
   // The same project running the executable CMake built instead of compiling main.c itself.
@@ -140,7 +129,7 @@ TEST_P(SearNew, CMakeBuildsTheFirmwareForTheSimulatorAndItRuns) {
   std::ofstream(built_project) << project;
   const fs::path report = temp_.path() / "report.xml";
   const Result run = short_run(built_project, temp_.path());
-  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.exit_code, 0) << run.out;
   EXPECT_EQ(junit_verdicts(report).tests, expectation_count(dir / "project.xml"));
   EXPECT_EQ(junit_verdicts(report).failures, 0) << read_file(report);
 }
@@ -153,13 +142,13 @@ TEST_P(SearNew, CMakeBuildsTheFirmwareForTheATmega2560) {
   const fs::path toolchain = fs::path(SEAR_SOURCE_DIR) / "cmake" / "avr-gcc.cmake";
   const Result configured = shell(std::string(CMAKE_COMMAND) + " -S " + in_quotes(dir) + " -B " + in_quotes(build) +
                                   " -DCMAKE_TOOLCHAIN_FILE=" + in_quotes(toolchain));
-  ASSERT_EQ(configured.exit_code, 0) << configured.output;
+  ASSERT_EQ(configured.exit_code, 0) << configured.out;
   const Result built = shell(std::string(CMAKE_COMMAND) + " --build " + in_quotes(build) + " -j2");
-  ASSERT_EQ(built.exit_code, 0) << built.output;
-  EXPECT_EQ(built.output.find("warning"), std::string::npos) << built.output;
+  ASSERT_EQ(built.exit_code, 0) << built.out;
+  EXPECT_EQ(built.out.find("warning"), std::string::npos) << built.out;
   // avr-size's report for the chip, and an Intel HEX file for the programmer: records of
   // ':' + hex digits, the last one the end-of-file record.
-  EXPECT_NE(built.output.find("Device: atmega2560"), std::string::npos) << built.output;
+  EXPECT_NE(built.out.find("Device: atmega2560"), std::string::npos) << built.out;
   const std::string hex = read_file(build / (name + ".hex"));
   ASSERT_FALSE(hex.empty());
   EXPECT_TRUE(std::regex_search(hex, std::regex("^:[0-9A-F]{10,}\r?\n")));
@@ -182,8 +171,8 @@ TEST(SearNewExpectations, AStalledAvoiderFails) {
   std::ofstream(dir / "main.c") << firmware;
   const fs::path report = temp.path() / "report.xml";
   const Result run = short_run(dir, temp.path());
-  EXPECT_EQ(run.exit_code, 5) << run.output;
-  EXPECT_NE(run.output.find("region rover"), std::string::npos) << run.output;
+  EXPECT_EQ(run.exit_code, 5) << run.out;
+  EXPECT_NE(run.out.find("region rover"), std::string::npos) << run.out;
   EXPECT_EQ(junit_verdicts(report).failures, 1) << read_file(report);
 }
 
@@ -192,14 +181,14 @@ TEST(SearNewFolder, RefusesAFolderInUseAndLeavesItAlone) {
   const std::string kept = temp.write("used/main.c", "int main(void) { return 0; }\n");
   const Result refused = shell(sear("new " + in_quotes(temp.path() / "used")));
   EXPECT_EQ(refused.exit_code, 1);
-  EXPECT_NE(refused.output.find("is not empty"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.out.find("is not empty"), std::string::npos) << refused.out;
   EXPECT_EQ(read_file(kept), "int main(void) { return 0; }\n");
   EXPECT_EQ(std::distance(fs::directory_iterator(temp.path() / "used"), fs::directory_iterator()), 1);
 
   const std::string file = temp.write("a_file", "x");
   const Result not_a_folder = shell(sear("new " + in_quotes(file)));
   EXPECT_EQ(not_a_folder.exit_code, 1);
-  EXPECT_NE(not_a_folder.output.find("not a folder"), std::string::npos) << not_a_folder.output;
+  EXPECT_NE(not_a_folder.out.find("not a folder"), std::string::npos) << not_a_folder.out;
   EXPECT_EQ(read_file(file), "x");
 }
 
@@ -208,13 +197,13 @@ TEST(SearNewFolder, FillsAnEmptyFolderNamedAfterIt) {
   const fs::path dir = temp.path() / "my-bot";
   fs::create_directory(dir);
   const Result made = shell(sear("new " + in_quotes(dir) + "/ -t rover"));  // a trailing slash too
-  ASSERT_EQ(made.exit_code, 0) << made.output;
+  ASSERT_EQ(made.exit_code, 0) << made.out;
   EXPECT_NE(read_file(dir / "project.xml").find("<project name=\"my-bot\">"), std::string::npos);
   EXPECT_NE(read_file(dir / "CMakeLists.txt").find("project(my-bot LANGUAGES C)"), std::string::npos);
 
   // --name wins over the folder's; a name CMake or the project file would refuse is refused.
   const Result named = shell(sear("new " + in_quotes(temp.path() / "x") + " --name wanderer"));
-  ASSERT_EQ(named.exit_code, 0) << named.output;
+  ASSERT_EQ(named.exit_code, 0) << named.out;
   EXPECT_NE(read_file(temp.path() / "x" / "main.c").find("\"wanderer: ready"), std::string::npos);
   const Result bad = shell(sear("new " + in_quotes(temp.path() / "y") + " --name '2 fast'"));
   EXPECT_EQ(bad.exit_code, 1);

@@ -21,6 +21,7 @@
 #include "scene/device_kind.hpp"
 #include "scene/diagnostics.hpp"
 #include "scene/project_loader.hpp"
+#include "command_output.hpp"
 #include "temp_dir.hpp"
 
 namespace sear {
@@ -33,17 +34,9 @@ using Type = DeviceParam::Type;
 // `sear ARGS`' standard output; the test fails unless it exits 0.
 std::string sear_output(const std::string& args) {
   const std::string command = std::string(SEAR_BINARY) + " " + args;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) {
-    ADD_FAILURE() << "cannot run " << command;
-    return {};
-  }
-  std::string out;
-  char buffer[4096];
-  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) out.append(buffer, n);
-  const int status = ::pclose(pipe);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command << " failed with status " << status;
-  return out;
+  const test::CommandOutput run = test::command_output(command);
+  EXPECT_EQ(run.exit_code, 0) << command << " failed";
+  return run.out;
 }
 
 const json& member(const json& list, const char* attribute) {

@@ -121,16 +121,28 @@ void check_label(ElementReader& r, const char* attribute, const std::string& tex
     r.error(fmt::format("<{}> attribute '{}' is {} bytes long; at most {}", r.name(), attribute, text.size(), kMaxLabel));
 }
 
-std::optional<std::string> read_named_file(const std::string& path, const char* what, Diagnostics& diagnostics) {
+bool parse_xml(const std::string& xml, const std::string& path, Diagnostics& diagnostics, tinyxml2::XMLDocument& doc) {
+  if (!check_utf8(xml, path, diagnostics)) return false;
+  if (doc.Parse(xml.data(), xml.size()) == tinyxml2::XML_SUCCESS) return true;
+  diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
+  return false;
+}
+
+bool read_text_file(const std::string& path, std::string& text) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    diagnostics.error(path, 0, std::filesystem::exists(path) ? fmt::format("cannot read {}", what)
-                                                             : fmt::format("{} not found", what));
-    return std::nullopt;
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  if (!in) return false;
+  std::ostringstream all;
+  all << in.rdbuf();
+  text = all.str();
+  return !in.bad();
+}
+
+std::optional<std::string> read_named_file(const std::string& path, const char* what, Diagnostics& diagnostics) {
+  std::string text;
+  if (read_text_file(path, text)) return text;
+  diagnostics.error(path, 0, std::filesystem::exists(path) ? fmt::format("cannot read {}", what)
+                                                           : fmt::format("{} not found", what));
+  return std::nullopt;
 }
 
 std::size_t first_invalid_utf8(const std::string& text) {

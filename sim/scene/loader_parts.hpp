@@ -8,6 +8,7 @@
 #include "scene/element_reader.hpp"
 
 namespace tinyxml2 {
+class XMLDocument;
 class XMLElement;
 }
 
@@ -36,6 +37,13 @@ void check_label(ElementReader& r, const char* attribute, const std::string& tex
 // The byte offset of the first byte of `text` that is not part of valid UTF-8 (overlong forms,
 // surrogates and code points beyond U+10FFFF included), or npos when it is all valid.
 std::size_t first_invalid_utf8(const std::string& text);
+
+// Parses a file's text, checked UTF-8 first, into `doc`; false, with the error at its line, when
+// it is not well-formed XML.
+bool parse_xml(const std::string& xml, const std::string& path, Diagnostics& diagnostics, tinyxml2::XMLDocument& doc);
+
+// The whole of a file: false when it cannot be opened or read.
+bool read_text_file(const std::string& path, std::string& text);
 
 // The whole of a file the user named as `what` ("project file", "scenario file"); empty, with the
 // error given, when it is missing or cannot be read.

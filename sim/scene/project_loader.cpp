@@ -71,12 +71,8 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
     diagnostics.error(path, 0, "the project file's name is not valid UTF-8; rename it");
     return std::nullopt;
   }
-  if (!check_utf8(xml, path, diagnostics)) return std::nullopt;
   tinyxml2::XMLDocument doc;
-  if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
-    diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
-    return std::nullopt;
-  }
+  if (!parse_xml(xml, path, diagnostics, doc)) return std::nullopt;
   const tinyxml2::XMLElement* root = doc.RootElement();
   if (!root || std::string(root->Name()) != "project") {
     diagnostics.error(path, root ? root->GetLineNum() : 1, "a project file must have <project> as its root element");

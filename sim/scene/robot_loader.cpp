@@ -18,15 +18,6 @@ namespace {
 
 constexpr double kRpmToRadps = 2.0 * M_PI / 60.0;
 
-bool read_text_file(const std::string& path, std::string& text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream all;
-  all << in.rdbuf();
-  text = all.str();
-  return !in.bad();
-}
-
 std::vector<std::string> material_names(const WorldDesc& world) {
   std::vector<std::string> names;
   for (const auto& m : world.materials) names.push_back(m.name);
@@ -239,11 +230,8 @@ bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& 
     } else if (!read_text_file(path, text)) {
       parts_read = false;
       r.error(fmt::format("robot file '{}' cannot be read ({})", included, path));
-    } else if (!check_utf8(text, path, diagnostics)) {
+    } else if (!parse_xml(text, path, diagnostics, doc)) {
       parts_read = false;
-    } else if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
-      parts_read = false;
-      diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
     } else if (!doc.RootElement() || std::string(doc.RootElement()->Name()) != "robot") {
       parts_read = false;
       diagnostics.error(path, doc.RootElement() ? doc.RootElement()->GetLineNum() : 1,

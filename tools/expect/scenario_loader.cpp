@@ -244,12 +244,8 @@ std::string absolute_path(const std::string& path) {
 }  // namespace
 
 std::optional<Scenario> load_scenario_text(const std::string& xml, const std::string& path, Diagnostics& diagnostics) {
-  if (!check_utf8(xml, path, diagnostics)) return std::nullopt;
   tinyxml2::XMLDocument doc;
-  if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
-    diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
-    return std::nullopt;
-  }
+  if (!parse_xml(xml, path, diagnostics, doc)) return std::nullopt;
   const tinyxml2::XMLElement* root = doc.RootElement();
   const std::string kind = root ? root->Name() : "";
   Scenario scenario;
