@@ -3,6 +3,7 @@
  * its use. */
 #include "link_check.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -146,4 +147,51 @@ int sear_link_check_event(const struct sear_link *link, uint32_t i, struct sear_
              (long long)w->turn_clock_ns, (long long)clock);
       return check_time_order(e->time_ns, &w->last_event_ns, "an event", i, why, why_size);
   }
+}
+
+uint32_t sear_link_reading_values(uint32_t kind) {
+  static const uint8_t counts[SEAR_INPUT_KIND_END] = {SEAR_LINK_READING_VALUES_BY_KIND};
+  return kind < SEAR_INPUT_KIND_END ? counts[kind] : 0;
+}
+
+/* The widest a model's output can honestly be, by kind: outputs within the rails (with room for
+ * an AVCC up to 10 V), levels 0 or 1, an echo no longer than the 38 ms of no echo, an encoder no
+ * further than 1e12 counts (a shaft at 10^4 rad/s for a simulated year, at 10^4 counts per
+ * cycle), accelerations and rates within 16 g and 2000 deg/s (the widest full scales), fields
+ * within 18 G; a little beyond each for rounding. */
+static int plausible(uint32_t kind, uint32_t k, double v) {
+  switch (kind) {
+    case SEAR_INPUT_GP2D12: return v >= 0.0 && v <= 10.0;
+    case SEAR_INPUT_GP2D15:
+    case SEAR_INPUT_SWITCH: return v == 0.0 || v == 1.0;
+    case SEAR_INPUT_HCSR04: return v >= 0.0 && v <= (k == 0 ? 0.04 : 7.0);
+    case SEAR_INPUT_MAXBOTIX: return v >= 0.0 && v <= (k == 0 ? 10.0 : 1000.0);
+    case SEAR_INPUT_ENCODER: return fabs(v) <= 1e13 && (k != 0 || v == floor(v));
+    case SEAR_INPUT_MPU6000:
+    case SEAR_INPUT_MPU6050: return fabs(v) <= (k < 3 ? 16.1 * 9.80665 : 2001.0 * 3.14159265358979 / 180.0);
+    case SEAR_INPUT_HMC5883L:
+    case SEAR_INPUT_QMC5883L: return fabs(v) <= 1.8e-3; /* the HMC's overflow code, -4096, at 230 LSB/G */
+    default: return 0;
+  }
+}
+
+int sear_link_check_reading(const struct sear_link *link, uint32_t i, uint32_t kind, int64_t clock_ns,
+                            struct sear_reading_watch *w, struct sear_link_reading *r, char *why,
+                            size_t why_size) {
+  if (i >= SEAR_LINK_MAX_INPUTS) FAIL("readings[%u] (no such input)", i);
+  const uint32_t count = load32(&link->readings[i].count);
+  if (count == w->count[i]) return 0;
+  memcpy(r, &link->readings[i], sizeof *r);
+  r->count = count;
+  const uint32_t n = sear_link_reading_values(kind);
+  if (!n) FAIL("readings[%u].count (%u, for an input whose kind %u gives no readings)", i, count, kind);
+  if (r->time_ns < w->time_ns[i] || r->time_ns > clock_ns || r->time_ns < 0)
+    FAIL("readings[%u].time_ns (%lld ns, outside %lld..%lld ns)", i, (long long)r->time_ns, (long long)w->time_ns[i],
+         (long long)clock_ns);
+  for (uint32_t k = 0; k < n; ++k)
+    if (!isfinite(r->value[k]) || !plausible(kind, k, r->value[k]))
+      FAIL("readings[%u].value[%u] (%g, not a reading input kind %u gives)", i, k, r->value[k], kind);
+  w->count[i] = count;
+  w->time_ns[i] = r->time_ns;
+  return 1;
 }

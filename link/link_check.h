@@ -51,6 +51,23 @@ int sear_link_check_turn(const struct sear_link *link, int handed_back, struct s
 int sear_link_check_event(const struct sear_link *link, uint32_t i, struct sear_link_watch *w,
                           struct sear_event *out, char *why, size_t why_size);
 
+/* What the simulator last took of each input's reading (lockstep_link.h, readings[]). */
+struct sear_reading_watch {
+  uint32_t count[SEAR_LINK_MAX_INPUTS];
+  int64_t time_ns[SEAR_LINK_MAX_INPUTS];
+};
+
+/* The number of values a reading of input kind `kind` holds, 0 for none. */
+uint32_t sear_link_reading_values(uint32_t kind);
+
+/* Copies input i's reading into `out` if its count moved since the last call and checks it: a
+ * time within what the firmware's clock (`clock_ns`, already checked) reached and not before the
+ * reading taken last, every value finite and plausible for `kind` (the simulator's own copy of
+ * the input's kind). Returns 1 for a new reading, 0 for none, -1 with a sentence in `why`. */
+int sear_link_check_reading(const struct sear_link *link, uint32_t i, uint32_t kind, int64_t clock_ns,
+                            struct sear_reading_watch *w, struct sear_link_reading *out, char *why,
+                            size_t why_size);
+
 #ifdef __cplusplus
 }
 #endif

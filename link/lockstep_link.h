@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #define SEAR_LINK_MAGIC 0x52414553u /* "SEAR" little-endian */
-#define SEAR_LINK_VERSION 4u
+#define SEAR_LINK_VERSION 5u
 /* Guards at both ends of the firmware's writable part: a stray write that runs over them is seen
  * at the next turn even when every value it hit still looks plausible. */
 #define SEAR_LINK_GUARD 0x5EA75EA75EA75EA7ull
@@ -86,12 +86,30 @@ enum sear_input_kind {
 #define SEAR_LINK_INPUT_PARAMS 8
 #define SEAR_LINK_SAMPLE_VALUES 6
 #define SEAR_LINK_NO_PIN 0xFFu
+/* How many values a reading of each kind holds, by enum sear_input_kind (0 for none). */
+#define SEAR_LINK_READING_VALUES_BY_KIND 0, 1, 1, 1, 2, 2, 2, 6, 6, 3, 3
 
 struct sear_link_input {
   uint32_t kind;                         /* enum sear_input_kind */
   uint32_t pins[SEAR_LINK_INPUT_PINS];   /* pins, ADC channels, chip selects or addresses; SEAR_LINK_NO_PIN unused */
   uint64_t seed;                         /* for the device's noise */
   double param[SEAR_LINK_INPUT_PARAMS];  /* the device's figures, per kind */
+};
+
+/* What an input's model last gave the firmware (volts on its ADC channel, the level it drives,
+ * the echo it timed, the count its edges make, its data registers decoded), from `time_ns` on:
+ *   GP2D12   value[0] output (V)                GP2D15  value[0] output level (0/1)
+ *   SWITCH   value[0] 1 closed, 0 open          HCSR04  value[0] last echo's width (s), [1] its distance (m)
+ *   MAXBOTIX value[0] analog output (V), [1] the reading (in)
+ *   ENCODER  value[0] count (4 per cycle, signed), [1] the angle it means (rad)
+ *   MPU6000/6050 value[0..2] accel (m/s^2), [3..5] gyro (rad/s), at the configured full scales
+ *   HMC5883L/QMC5883L value[0..2] field (T) at the configured gain
+ * The firmware's process writes the values and time, then bumps `count`, whenever they change. */
+struct sear_link_reading {
+  int64_t time_ns;
+  uint32_t count;
+  uint32_t reserved;
+  double value[SEAR_LINK_SAMPLE_VALUES];
 };
 
 struct sear_link_sample {
@@ -197,6 +215,10 @@ struct sear_link {
   uint32_t event_count;
   uint32_t reserved;
   struct sear_event events[SEAR_LINK_MAX_EVENTS];
+
+  /* Written by the firmware's process whenever a model's output changes; read by the simulator
+   * after each turn. Per input, as inputs[]. */
+  struct sear_link_reading readings[SEAR_LINK_MAX_INPUTS];
   uint64_t guard_back;
 };
 

@@ -18,6 +18,8 @@ packages=(
   gtkwave                    # vcd2fst and fst2vcd read the MCUs' VCD waveforms back in the tests
   parallel                   # GNU parallel runs `sear test --shard K/N` shards in the tests (and over ssh hosts)
   python3-matplotlib         # draws every run's plots (tools/plots/plot_run.py); without it a run only warns
+  chromium chromium-driver python3-selenium python3-pil libjs-three libcivetweb-dev  # the browser viewer: civetweb serves it, three.js draws it, headless chromium tests it
+  python3-websocket          # the viewer's tests and bench/view_bench.sh talk to `sear view` as a page would
 )
 
 missing=()

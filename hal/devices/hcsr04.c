@@ -20,6 +20,8 @@ void hcsr04_init(struct hcsr04 *s, uint64_t seed) {
   s->echo_fall_ns = NONE;
   s->burst_ns = INT64_MIN;
   s->burst_measurement = 0;
+  s->shown_rise_ns = INT64_MIN;
+  s->last_width_ns = -1;
 }
 
 void hcsr04_set_distance(struct hcsr04 *s, double distance_m, int64_t t_ns) {
@@ -71,11 +73,15 @@ int64_t hcsr04_next_edge_ns(const struct hcsr04 *s) {
 
 int hcsr04_take_edge(struct hcsr04 *s) {
   if (s->echo_rise_ns != NONE) {
+    s->shown_rise_ns = s->echo_rise_ns;
     s->echo_rise_ns = NONE;
     s->echo_level = 1;
   } else if (s->echo_fall_ns != NONE) {
+    s->last_width_ns = s->echo_fall_ns - s->shown_rise_ns;
     s->echo_fall_ns = NONE;
     s->echo_level = 0;
   }
   return s->echo_level;
 }
+
+int64_t hcsr04_last_echo_width_ns(const struct hcsr04 *s) { return s->last_width_ns; }

@@ -54,6 +54,8 @@ struct hcsr04 {
   int64_t echo_fall_ns;
   int64_t burst_ns;             /* the pending measurement's burst, while ECHO has not risen */
   uint64_t burst_measurement;   /* and its noise index */
+  int64_t shown_rise_ns;        /* the latest ECHO rise taken */
+  int64_t last_width_ns;        /* the latest complete ECHO pulse's width, -1 before one */
 };
 
 void hcsr04_init(struct hcsr04 *s, uint64_t seed);
@@ -73,6 +75,9 @@ int hcsr04_take_edge(struct hcsr04 *s);
  * 2 cm - 4 m, HCSR04_NO_ECHO_NS outside. Exposed so tests and tools compute what a measurement
  * gives. */
 int64_t hcsr04_echo_width_ns(double distance_m, uint64_t seed, uint64_t measurement);
+/* The width of the latest ECHO pulse that ended (what a firmware timing it gets), -1 before the
+ * first. */
+int64_t hcsr04_last_echo_width_ns(const struct hcsr04 *s);
 
 #ifdef __cplusplus
 }

@@ -195,3 +195,12 @@ int hmc5883l_i2c_read(struct hmc5883l *s, uint8_t *data, size_t n, int64_t t_ns)
   s->pointer = p;
   return 0;
 }
+
+void hmc5883l_field_read_T(const struct hmc5883l *s, double field_T[3]) {
+  const double lsb = hmc5883l_lsb_per_gauss(s->reg[HMC5883L_CONFIG_B] >> 5);
+  static const int at[3] = {3, 7, 5}; /* X, Y, Z: the registers go X, Z, Y */
+  for (int i = 0; i < 3; ++i) {
+    const int16_t v = (int16_t)(uint16_t)(s->reg[at[i]] << 8 | s->reg[at[i] + 1]);
+    field_T[i] = v / lsb / GAUSS_PER_TESLA;
+  }
+}

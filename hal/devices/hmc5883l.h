@@ -59,6 +59,8 @@ int hmc5883l_i2c_write(struct hmc5883l *s, const uint8_t *data, size_t n, int64_
 int hmc5883l_i2c_read(struct hmc5883l *s, uint8_t *data, size_t n, int64_t t_ns);
 /* Digital resolution of gain code GN (0..7), LSB per gauss: 1370 ... 230. */
 double hmc5883l_lsb_per_gauss(int gain_code);
+/* The data registers (X, Y, Z) as a driver decodes them at the gain CONFIG_B holds, in T. */
+void hmc5883l_field_read_T(const struct hmc5883l *s, double field_T[3]);
 /* The DRDY pin (pulled high, low for 250 us as each result lands) as of the last advance, and
  * the next time it may change without a bus access (INT64_MAX: never). */
 int hmc5883l_drdy_level(const struct hmc5883l *s);

@@ -97,6 +97,10 @@ static double analog_inches(const struct maxbotix_lv_ez *s, int64_t t_ns) {
   return s->an_from_inches + f * (s->an_to_inches - s->an_from_inches);
 }
 
+int maxbotix_lv_ez_shown_inches(const struct maxbotix_lv_ez *s, int64_t t_ns) {
+  return t_ns >= s->an_ramp_end_ns ? s->an_to_inches : s->an_from_inches;
+}
+
 void maxbotix_lv_ez_take_reading(struct maxbotix_lv_ez *s, int inches, int64_t t_cycle_ns) {
   maxbotix_schedule_take(&s->schedule);
   if (inches < 0) inches = 0;

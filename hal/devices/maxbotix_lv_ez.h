@@ -100,6 +100,9 @@ int64_t maxbotix_lv_ez_next_edge_ns(const struct maxbotix_lv_ez *s);
 int maxbotix_lv_ez_take_edge(struct maxbotix_lv_ez *s); /* the new PW level */
 /* AN at t_ns for supply vcc_v (queried at or after the latest reading's cycle start). */
 double maxbotix_lv_ez_analog_v(const struct maxbotix_lv_ez *s, int64_t t_ns, double vcc_v);
+/* The reading (inches) AN has settled on by t_ns: the latest once its ramp ended, else the one
+ * before. */
+int maxbotix_lv_ez_shown_inches(const struct maxbotix_lv_ez *s, int64_t t_ns);
 
 /* The TX output, a UART device in the simulator's process: frames out with their times, in the
  * byte values sent; the wire carries them inverted (MAXBOTIX_SERIAL_INVERTED). */

@@ -408,3 +408,15 @@ int mpu6000_i2c_read(struct mpu6000 *s, uint8_t *data, size_t n, int64_t t_ns) {
   s->i2c_pointer = p;
   return 0;
 }
+
+void mpu6000_latest_si(const struct mpu6000 *s, double accel_mps2[3], double gyro_radps[3]) {
+  static const double gyro_lsb[4] = {131.0, 65.5, 32.8, 16.4};
+  const double a_lsb = 16384.0 / (double)(1 << ((s->reg[MPU6000_ACCEL_CONFIG] >> 3) & 3));
+  const double g_lsb = gyro_lsb[(s->reg[MPU6000_GYRO_CONFIG] >> 3) & 3];
+  for (int i = 0; i < 3; ++i) {
+    const int16_t a = (int16_t)(uint16_t)(s->latest[2 * i] << 8 | s->latest[2 * i + 1]);
+    const int16_t g = (int16_t)(uint16_t)(s->latest[8 + 2 * i] << 8 | s->latest[8 + 2 * i + 1]);
+    accel_mps2[i] = a / a_lsb * STANDARD_GRAVITY;
+    gyro_radps[i] = g / g_lsb * DEG_TO_RAD;
+  }
+}

@@ -160,6 +160,10 @@ uint8_t mpu6000_reg_read(struct mpu6000 *s, uint8_t addr);
 void mpu6000_reg_write(struct mpu6000 *s, uint8_t addr, uint8_t value);
 /* Sample-rate period in ns as configured: gyro output rate / (1 + SMPLRT_DIV). */
 int64_t mpu6000_sample_period_ns(const struct mpu6000 *s);
+/* The newest sample in the data registers (ACCEL_XOUT_H..GYRO_ZOUT_L) as a driver decodes it:
+ * at the register map's sensitivity for the full scales ACCEL_CONFIG and GYRO_CONFIG hold (so a
+ * revision C part's doubled acceleration shows as such), in m/s^2 and rad/s. */
+void mpu6000_latest_si(const struct mpu6000 *s, double accel_mps2[3], double gyro_radps[3]);
 
 #ifdef __cplusplus
 }

@@ -131,3 +131,11 @@ int qmc5883l_i2c_read(struct qmc5883l *s, uint8_t *data, size_t n, int64_t t_ns)
   s->pointer = p;
   return 0;
 }
+
+void qmc5883l_field_read_T(const struct qmc5883l *s, double field_T[3]) {
+  const double lsb = qmc5883l_lsb_per_gauss(s->reg[QMC5883L_CONTROL_1]);
+  for (int i = 0; i < 3; ++i) {
+    const int16_t v = (int16_t)(uint16_t)(s->reg[2 * i] | s->reg[2 * i + 1] << 8);
+    field_T[i] = v / lsb / GAUSS_PER_TESLA;
+  }
+}

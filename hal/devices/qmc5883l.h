@@ -56,6 +56,8 @@ int qmc5883l_i2c_write(struct qmc5883l *s, const uint8_t *data, size_t n, int64_
 int qmc5883l_i2c_read(struct qmc5883l *s, uint8_t *data, size_t n, int64_t t_ns);
 /* LSB per gauss for the RNG field of CONTROL_1: 12000 at +-2 G, 3000 at +-8 G. */
 double qmc5883l_lsb_per_gauss(uint8_t control_1);
+/* The data registers (X, Y, Z) as a driver decodes them at the range CONTROL_1 holds, in T. */
+void qmc5883l_field_read_T(const struct qmc5883l *s, double field_T[3]);
 int64_t qmc5883l_next_event_ns(const struct qmc5883l *s);
 
 #ifdef __cplusplus

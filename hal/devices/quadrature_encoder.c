@@ -73,3 +73,7 @@ void encoder_take_edge(struct quadrature_encoder *s, int *channel, int *level) {
 }
 
 int encoder_levels(const struct quadrature_encoder *s) { return levels_of(s->shown_quarter); }
+
+int64_t encoder_count(const struct quadrature_encoder *s) { return s->shown_quarter; }
+
+double encoder_count_angle_rad(const struct quadrature_encoder *s) { return (double)s->shown_quarter * s->quarter_rad; }

@@ -39,6 +39,10 @@ int64_t encoder_next_edge_ns(const struct quadrature_encoder *s);
 void encoder_take_edge(struct quadrature_encoder *s, int *channel, int *level);
 /* Levels shown now: bit 0 = A, bit 1 = B. */
 int encoder_levels(const struct quadrature_encoder *s);
+/* The quarter the pins show, counted from angle 0: what an x4 decoder counting every edge reads
+ * (signed, 4 per cycle) when powered up at angle 0, and the angle that count means. */
+int64_t encoder_count(const struct quadrature_encoder *s);
+double encoder_count_angle_rad(const struct quadrature_encoder *s);
 
 #ifdef __cplusplus
 }

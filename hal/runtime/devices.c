@@ -6,6 +6,7 @@
 
 #include "devices/sharp_gp2d12.h"
 #include "pins.h"
+#include "readings.h"
 
 #include <hal/gpio.h>
 
@@ -249,12 +250,14 @@ static const struct device_ops *ops_of(uint32_t input) {
   return kind < SEAR_INPUT_KIND_END ? &kinds[kind] : &kinds[0];
 }
 
-/* After every operation on a device: its output pins follow its state, and its next event is
- * kept here (the scheduler asks for the earliest after nearly every HAL call) and brought into
- * the scheduler's next look at once, as a TRIG pulse's echo falls due within the same quantum. */
-static void refresh(uint32_t i) {
+/* After every operation on a device (at t_ns): its output pins follow its state, its reading is
+ * marked for publishing at the quantum's end, and its next event is kept here (the scheduler asks
+ * for the earliest after nearly every HAL call) and brought into the scheduler's next look at
+ * once, as a TRIG pulse's echo falls due within the same quantum. */
+static void refresh(uint32_t i, int64_t t_ns) {
   struct mcu_device *d = &sear_mcu.devices[i];
   if (ops_of(i)->drive) ops_of(i)->drive(d, &sear_mcu.link->inputs[i]);
+  mcu_readings_touch(i, t_ns);
   d->next_ns = ops_of(i)->next_event ? ops_of(i)->next_event(d) : MCU_TIME_NEVER;
   if (d->next_ns < sear_mcu.next_due_ns) sear_mcu.next_due_ns = d->next_ns;
 }
@@ -264,7 +267,7 @@ void mcu_devices_init(void) {
   for (uint32_t i = 0; i < input_count(); ++i) {
     const struct sear_link_input *in = &sear_mcu.link->inputs[i];
     if (ops_of(i)->init) ops_of(i)->init(&sear_mcu.devices[i], in);
-    refresh(i);
+    refresh(i, 0);
     /* A device that listens to a pin the firmware drives is told of every level it writes there. */
     for (int p = 0; p < SEAR_LINK_INPUT_PINS; ++p)
       if ((ops_of(i)->listens >> p & 1) && in->pins[p] < SEAR_LINK_PINS) sear_mcu.pin_device[in->pins[p]] = (uint8_t)i;
@@ -274,14 +277,14 @@ void mcu_devices_init(void) {
 void mcu_devices_sample(const struct sear_link_sample *s) {
   if (s->input >= input_count()) return;
   if (ops_of(s->input)->sample) ops_of(s->input)->sample(&sear_mcu.devices[s->input], &sear_mcu.link->inputs[s->input], s);
-  refresh(s->input);
+  refresh(s->input, s->time_ns);
 }
 
 void mcu_devices_pin_written(uint8_t pin, uint8_t level, int64_t t_ns) {
   const uint8_t i = sear_mcu.pin_device[pin];
   if (i == MCU_NO_DEVICE || i >= input_count() || !ops_of(i)->pin_written) return;
   ops_of(i)->pin_written(&sear_mcu.devices[i], &sear_mcu.link->inputs[i], pin, level, t_ns);
-  refresh(i);
+  refresh(i, t_ns);
 }
 
 int64_t mcu_devices_next_event(void) {
@@ -303,7 +306,7 @@ void mcu_devices_run_due(int64_t now_ns) {
     }
     if (t > now_ns) return;
     ops_of(which)->run_event(&sear_mcu.devices[which], &sear_mcu.link->inputs[which], t);
-    refresh(which);
+    refresh(which, t);
   }
 }
 
@@ -316,7 +319,7 @@ int mcu_devices_spi_transfer(uint8_t mosi, uint32_t sck_hz, int64_t t_ns) {
     if (cs >= SEAR_LINK_PINS || sear_mcu.mode[cs] != OUTPUT || sear_mcu.latch[cs] != LOW) continue;
     /* Two selected devices drive MISO against each other: the bus reads their wired AND. */
     const uint8_t out = ops->spi_transfer(&sear_mcu.devices[i], mosi, sck_hz, t_ns);
-    refresh(i);
+    refresh(i, t_ns);
     miso = miso < 0 ? out : (miso & out);
   }
   return miso;
@@ -332,7 +335,7 @@ int mcu_devices_i2c_write(uint8_t address, const uint8_t *data, uint8_t length, 
   const int i = i2c_device(address);
   if (i < 0) return -1;
   const int acknowledged = ops_of((uint32_t)i)->i2c_write(&sear_mcu.devices[i], data, length, t_ns);
-  refresh((uint32_t)i);
+  refresh((uint32_t)i, t_ns);
   return acknowledged;
 }
 
@@ -340,6 +343,6 @@ int mcu_devices_i2c_read(uint8_t address, uint8_t *data, uint8_t length, int64_t
   const int i = i2c_device(address);
   if (i < 0) return -1;
   const int acknowledged = ops_of((uint32_t)i)->i2c_read(&sear_mcu.devices[i], data, length, t_ns);
-  refresh((uint32_t)i);
+  refresh((uint32_t)i, t_ns);
   return acknowledged;
 }

@@ -9,6 +9,7 @@
 #include "devices.h"
 #include "link_end.h"
 #include "pins.h"
+#include "readings.h"
 
 void mcu_uart_arrive(uint8_t port, uint8_t byte, int64_t time_ns) {
   struct mcu_uart *u = &sear_mcu.uart[port];
@@ -225,6 +226,7 @@ void mcu_service(void) {
   for (;;) {
     apply_due(link->clock_ns < link->quantum_end_ns ? link->clock_ns : link->quantum_end_ns - 1);
     if (link->clock_ns >= link->quantum_end_ns) {
+      mcu_readings_publish();
       mcu_link_exchange();
       mcu_take_quantum();
       continue;

@@ -67,7 +67,7 @@ void McuBridge::setup_link(sear_link& link, const void* context) {
 }
 
 void McuBridge::begin_quantum(const PhysicsWorld& physics, std::int64_t t0, std::int64_t t1) {
-  if (process_->failure()) return;
+  if (!process_ || process_->failure()) return;
   sear_link& link = process_->link();
   // Samples and counts are put together here and copied into the link once, last: a firmware (or
   // anything it forked) can write the link at any time, so nothing the simulator sorts or
@@ -241,11 +241,36 @@ void McuBridge::command_actuators() {
     vehicle_.command_servo(static_cast<std::size_t>(vehicle_.servo_index(s.servo)), servo_pulse_us_[s.pin]);
 }
 
+bool McuBridge::take_readings() {
+  sear_link& link = process_->link();
+  for (std::size_t i = 0; i < inputs_.size(); ++i) {
+    sear_link_reading r;
+    char why[256];
+    const int got = sear_link_check_reading(&link, static_cast<std::uint32_t>(i), inputs_[i].kind, process_->clock_ns(),
+                                            &reading_watch_, &r, why, sizeof why);
+    if (got < 0) {
+      // As McuProcess stops a firmware whose events do not check out: killed, its report naming
+      // the field, nothing it made up passed on.
+      reading_failure_ = McuFailure{McuFailure::Kind::Corrupted, 0, why, process_->clock_ns(), process_->last_call_name()};
+      process_.reset();
+      return false;
+    }
+    if (got > 0 && tap_)
+      tap_->on_reading(index_, input_device_[i], r.time_ns, r.value, sear_link_reading_values(inputs_[i].kind));
+  }
+  return true;
+}
+
 McuBridge::Outcome McuBridge::finish_quantum(std::size_t index, McuListener& listener) {
   for (;;) {
     const McuProcess::Turn turn = process_->wait();
     if (turn == McuProcess::Turn::Interrupted) return Outcome::Interrupted;
     drain(index, listener);  // whatever it wrote before stopping is kept too
+    if (!process_->failure() && !take_readings()) {
+      release_actuators();
+      listener.on_stop(index, reading_failure_->time_ns);
+      return Outcome::Stopped;
+    }
     if (turn == McuProcess::Turn::Drain && !process_->failure()) {
       process_->resume();
       continue;
@@ -261,6 +286,7 @@ McuBridge::Outcome McuBridge::finish_quantum(std::size_t index, McuListener& lis
 }
 
 void McuBridge::shut_down(std::size_t index, std::int64_t time_ns, McuListener& listener) {
+  if (!process_) return;  // already stopped, and reported
   process_.reset();
   listener.on_stop(index, time_ns);
 }

@@ -65,6 +65,7 @@ class McuBridge {
   Outcome finish_quantum(std::size_t index, McuListener& listener);
   const std::optional<McuFailure>& failure() const {
     static const std::optional<McuFailure> none;  // shut down with its robot: it did not fail
+    if (reading_failure_) return reading_failure_;
     return process_ ? process_->failure() : none;
   }
   // A stopped MCU drives nothing: its motors coast and its servos get no pulses.
@@ -87,6 +88,9 @@ class McuBridge {
   // Bytes between the UART devices and the firmware's ports for [t0, t1), into the link's rx.
   std::uint32_t exchange_serial(std::int64_t t0, std::int64_t t1, sear_link& link, std::uint32_t rx_count);
   void drain(std::size_t index, McuListener& listener);
+  // Passes on each reading the firmware's process published since the last turn, once checked;
+  // false (the firmware stopped as corrupted, see failure()) at the first bad one.
+  bool take_readings();
   void command_actuators();
 
   McuDesc desc_;
@@ -99,6 +103,8 @@ class McuBridge {
   std::vector<std::unique_ptr<SimDevice>> devices_;  // desc_.devices, in order
   SampleSink samples_;                               // for the coming quantum
   std::unique_ptr<McuProcess> process_;
+  sear_reading_watch reading_watch_{};
+  std::optional<McuFailure> reading_failure_;  // a bad reading stopped it (process_ is gone then)
   // What the firmware drives on each pin: 0..255 (LOW, PWM duty, HIGH); inputs drive nothing.
   std::array<int, SEAR_LINK_PINS> pin_drive_{};
   std::array<bool, SEAR_LINK_PINS> pin_output_{};

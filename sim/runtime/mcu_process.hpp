@@ -65,6 +65,8 @@ class McuProcess {
   const std::optional<McuFailure>& failure() const { return failure_; }
   // The firmware's clock at its last checked hand-back.
   std::int64_t clock_ns() const { return watch_.clock_ns; }
+  // Its last HAL call as last checked, not as the firmware may since have written it.
+  const char* last_call_name() const { return hal_call_name(watch_.last_call); }
 
  private:
   void spawn(const std::string& executable, const std::string& host_log, std::uint64_t max_file_bytes);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "devices/serial_byte.h"
@@ -21,6 +22,11 @@ class RunTap {
   // What device `device` (index into that MCU's McuDesc::devices) measured for its model in the
   // firmware's process, for the coming quantum.
   virtual void on_sample(std::size_t /*mcu*/, std::size_t /*device*/, const sear_link_sample& /*sample*/) {}
+  // What device `device`'s model in the firmware's process gave the firmware, latest at `time_ns`
+  // (volts, a level, an echo's width, a count, register values in SI): `values` as
+  // tools/lcm/reading_meaning.hpp names them per element. Told after each quantum in which it changed.
+  virtual void on_reading(std::size_t /*mcu*/, std::size_t /*device*/, std::int64_t /*time_ns*/,
+                          const double* /*values*/, std::size_t /*count*/) {}
   // Bytes a UART device put on its wire (`from_device`) or that reached it, in time order.
   virtual void on_wire_bytes(std::size_t /*mcu*/, std::size_t /*device*/, bool /*from_device*/,
                              const serial_byte* /*bytes*/, std::size_t /*count*/) {}
@@ -44,6 +50,10 @@ class RunTaps final : public RunTap {
   }
   void on_sample(std::size_t mcu, std::size_t device, const sear_link_sample& s) override {
     for (RunTap* t : taps_) t->on_sample(mcu, device, s);
+  }
+  void on_reading(std::size_t mcu, std::size_t device, std::int64_t time_ns, const double* values,
+                  std::size_t count) override {
+    for (RunTap* t : taps_) t->on_reading(mcu, device, time_ns, values, count);
   }
   void on_wire_bytes(std::size_t mcu, std::size_t device, bool from_device, const serial_byte* bytes,
                      std::size_t count) override {

@@ -8,6 +8,7 @@
 #include <iterator>
 
 #include "lcm/reading_meaning.hpp"
+#include "runtime/simulation.hpp"
 #include "scene/device_kind.hpp"
 
 namespace sear {
@@ -20,7 +21,12 @@ SensorCsv::SensorCsv(const std::string& folder, const ProjectDesc& project, doub
     for (const McuDesc& mcu : robot.mcus) {
       Mcu m;
       m.name = mcu.name;
-      for (const DeviceDesc& d : mcu.devices) m.devices.push_back({d.name, d.kind ? d.kind->element : ""});
+      for (const DeviceDesc& d : mcu.devices) {
+        Device device;
+        device.name = d.name;
+        device.element = d.kind ? d.kind->element : "";
+        m.devices.push_back(std::move(device));
+      }
       // Only kinds with models in the firmware's process send samples.
       bool samples = false;
       for (const DeviceDesc& d : mcu.devices) samples = samples || (d.kind && d.kind->link_inputs > 0);
@@ -28,7 +34,7 @@ SensorCsv::SensorCsv(const std::string& folder, const ProjectDesc& project, doub
         files_.push_back(std::make_unique<BoundedFile>(folder + "/sensors_" + robot.name + ".csv", max_file_bytes,
                                                        text_truncation_note(max_file_bytes)));
         file = files_.back().get();
-        file->write("time_s,mcu,device,quantity,unit,value\n");
+        file->write("time_s,mcu,device,quantity,unit,value,source\n");
       }
       m.file = samples ? file : nullptr;
       mcus_.push_back(std::move(m));
@@ -46,18 +52,54 @@ void SensorCsv::on_sample(std::size_t mcu, std::size_t device, const sear_link_s
   std::string rows;
   const std::size_t n = std::min<std::size_t>(meaning.quantity.size(), SEAR_LINK_SAMPLE_VALUES);
   for (std::size_t i = 0; i < n; ++i)
-    fmt::format_to(std::back_inserter(rows), "{:.9f},{},{},{},{},{}\n", static_cast<double>(sample.time_ns) * 1e-9,
+    fmt::format_to(std::back_inserter(rows), "{:.9f},{},{},{},{},{},truth\n", static_cast<double>(sample.time_ns) * 1e-9,
                    m.name, d.name, meaning.quantity[i], meaning.unit[i], sample.value[i]);
   m.file->write(rows);
   dirty_ = true;
 }
 
-// Flushed step by step, as the run's other files, so that a killed run keeps what it measured.
-void SensorCsv::on_step(const Simulation&) {
-  if (dirty_) flush();
+void SensorCsv::on_reading(std::size_t mcu, std::size_t device, std::int64_t time_ns, const double* values,
+                           std::size_t count) {
+  if (mcu >= mcus_.size() || !mcus_[mcu].file || device >= mcus_[mcu].devices.size()) return;
+  Mcu& m = mcus_[mcu];
+  Device& d = m.devices[device];
+  d.held_ns = time_ns;
+  d.held.assign(values, values + std::min<std::size_t>(count, SEAR_LINK_SAMPLE_VALUES));
+  d.reading_held = true;
+  if (d.reading_written_ns == INT64_MIN || time_ns >= d.reading_written_ns + period_ns_) write_reading(m, d);
+}
+
+void SensorCsv::write_reading(Mcu& m, Device& d) {
+  const ReadingMeaning& meaning = output_meaning(d.element);
+  std::string rows;
+  const std::size_t n = std::min(meaning.quantity.size(), d.held.size());
+  for (std::size_t i = 0; i < n; ++i)
+    fmt::format_to(std::back_inserter(rows), "{:.9f},{},{},{},{},{},reading\n", static_cast<double>(d.held_ns) * 1e-9,
+                   m.name, d.name, meaning.quantity[i], meaning.unit[i], d.held[i]);
+  m.file->write(rows);
+  d.reading_written_ns = d.held_ns;
+  d.reading_held = false;
+  dirty_ = true;
+}
+
+// Flushed step by step, as the run's other files, so that a killed run keeps what it measured. A
+// reading held back goes out once a period has passed since the last one written: a model whose
+// output then stays put still shows its latest value.
+void SensorCsv::on_step(const Simulation& sim) {
+  for (Mcu& m : mcus_)
+    for (Device& d : m.devices)
+      if (d.reading_held && sim.time_ns() >= d.reading_written_ns + period_ns_) write_reading(m, d);
+  if (dirty_) flush_files();
 }
 
 void SensorCsv::flush() {
+  for (Mcu& m : mcus_)
+    for (Device& d : m.devices)
+      if (d.reading_held && m.file) write_reading(m, d);
+  flush_files();
+}
+
+void SensorCsv::flush_files() {
   for (auto& f : files_) f->flush();
   dirty_ = false;
 }

@@ -6,8 +6,11 @@ python3-matplotlib): `plot_run.py OUT_DIR` writes OUT_DIR/plot_*.png, each 1200 
                                    obstacles (world.json), collisions marked (summary.json)
   plot_motors_ROBOT.png            motor duties, wheel speeds (and servo pulses) from trace_ROBOT.csv
   plot_sensor_ROBOT.MCU.DEV.png    per sensor: for a model in the firmware's process, the truth it
-                                   measured (sensors_ROBOT.csv); for a GPS, the fixes the firmware
-                                   received (NMEA in ROBOT.MCU.uartN.log) against the trace's position
+                                   measured and the reading it gave the firmware (sensors_ROBOT.csv),
+                                   on the same axes where they are the same quantity, in panels of
+                                   their own where not (an IR ranger's volts, an echo's width, an
+                                   encoder's count); for a GPS, the fixes the firmware received (NMEA
+                                   in ROBOT.MCU.uartN.log) against the trace's position
 
 Exits 0 when every plot was written; otherwise its last line says what went wrong (sear prints it).
 """
@@ -195,7 +198,8 @@ def plot_motors(plt, out_dir, robot, trace):
 # --- sensors -------------------------------------------------------------------------------------
 
 def read_sensors(path):
-    """{(mcu, device): {(quantity, unit): ([t], [v])}} in file order."""
+    """{(mcu, device): {source: {(quantity, unit): ([t], [v])}}} in file order; source "truth" or
+    "reading" (a file without the source column holds truth only)."""
     devices = {}
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
@@ -203,8 +207,9 @@ def read_sensors(path):
                 t, v = float(row["time_s"]), float(row["value"])
             except (TypeError, ValueError):
                 continue  # a line cut short by a killed run
-            series = devices.setdefault((row["mcu"], row["device"]), {}).setdefault((row["quantity"], row["unit"]),
-                                                                                  ([], []))
+            source = row.get("source") or "truth"
+            series = devices.setdefault((row["mcu"], row["device"]), {}).setdefault(source, {}).setdefault(
+                (row["quantity"], row["unit"]), ([], []))
             series[0].append(t)
             series[1].append(v)
     return devices
@@ -221,30 +226,75 @@ def element_of(world, robot, mcu, device):
     return None
 
 
-def plot_measured(plt, out_dir, robot, mcu, device, element, series):
-    n = len(series)
+def fit_readings(ax, truth, reading):
+    """Scales the y axis to the truth and the bulk of the readings when a few readings lie far off
+    (further from the bulk than its own span): a device's registers read 0 until the firmware wakes
+    it, which would otherwise squash an IMU's 9.81 m/s^2 or a field's tens of uT to a line. Returns
+    how many readings it left off the axis."""
+    truth = [x for x in truth if math.isfinite(x)]
+    finite = sorted(x for x in reading if math.isfinite(x))
+    if not truth or len(finite) < 20:
+        return 0
+    cut = len(finite) // 100 + 1  # the extreme 1 % of each end, at least one
+    core = truth + finite[cut:len(finite) - cut]
+    lo, hi = min(core), max(core)
+    span = (hi - lo) or abs(hi) or 1.0
+    near = [x for x in finite if lo - span <= x <= hi + span]
+    if len(near) == len(finite):
+        return 0
+    lo, hi = min(truth + near), max(truth + near)
+    pad = 0.05 * ((hi - lo) or abs(hi) or 1.0)
+    ax.set_ylim(lo - pad, hi + pad)
+    return len(finite) - len(near)
+
+
+def plot_measured(plt, out_dir, robot, mcu, device, element, sources):
+    """One panel per quantity: the truth and the reading on the same axes where they share it (an
+    IMU's axes, a compass's field, a sonar's distance, an encoder's angle); a reading of another
+    quantity (an IR ranger's volts, an echo's width, a count) gets a panel of its own below, on the
+    same time axis, rather than a twin y axis over the truth that would hide one or the other."""
+    truth, reading = sources.get("truth", {}), sources.get("reading", {})
+    panels = list(truth) + [key for key in reading if key not in truth]
+    n = len(panels)
     rows = min(n, 3)
     cols = (n + rows - 1) // rows
     fig, axes = figure(plt, rows, cols, sharex=True)
-    for ax, ((quantity, unit), (t, v)) in zip(axes, series.items()):
-        if unit == "T":  # the Earth's field reads better in microtesla
-            unit, v = "µT", [x * 1e6 for x in v]
-        ax.step(t, v, where="post", color=TRUTH_COLOUR, linewidth=1.5, label="truth measured")
+    times = [x for series in list(truth.values()) + list(reading.values()) for x in series[0]]
+    for ax, key in zip(axes, panels):
+        quantity, unit = key
+        scale = 1e6 if unit == "T" else 1  # the Earth's field reads better in microtesla
+        shown_unit = "µT" if unit == "T" else unit
+        drawn = []
+        for series, colour, label, width in ((truth.get(key), TRUTH_COLOUR, "truth measured", 2.5),
+                                             (reading.get(key), READING_COLOUR, "reading given the firmware", 1.5)):
+            if series:
+                v = [x * scale for x in series[1]]
+                # A reading holds until the next: drawn on to the end of the run.
+                t = series[0] + ([max(times)] if series is reading.get(key) else [])
+                v_drawn = v + ([v[-1]] if series is reading.get(key) else [])
+                ax.step(t, v_drawn, where="post", color=colour, linewidth=width, label=label)
+                drawn.extend(v)
+        off_scale = fit_readings(ax, [x * scale for x in truth[key][1]] if key in truth else [],
+                                 [x * scale for x in reading[key][1]] if key in reading else [])
         ax.ticklabel_format(axis="y", useOffset=False)
-        ax.set_xlim(min(t), max(max(t), min(t) + 1e-3))  # an infinite value is not drawn, nor scaled to
-        if all(math.isinf(x) for x in v):
+        ax.set_xlim(min(times), max(max(times), min(times) + 1e-3))  # an infinite value is not drawn, nor scaled to
+        if drawn and all(math.isinf(x) for x in drawn):
             ax.text(0.5, 0.5, "nothing in range for the whole run", transform=ax.transAxes, ha="center", fontsize=12)
-        elif any(math.isinf(x) for x in v):
+        elif any(math.isinf(x) for x in drawn):
             ax.set_title("(gaps: nothing in range)", fontsize=9)
-        ax.set_ylabel(f"{quantity} ({unit})")
+        elif off_scale:
+            ax.set_title(f"({off_scale} reading(s) off scale, as the registers before the firmware set the part up)",
+                         fontsize=9)
+        ax.set_ylabel(f"{quantity} ({shown_unit})")
         ax.grid(True, alpha=0.3)
         ax.legend(loc="upper right", fontsize=9)
     for ax in axes[n:]:
         ax.set_visible(False)
     for ax in axes[-cols:]:
         ax.set_xlabel("sim time (s)")
-    fig.suptitle(f"{robot}.{mcu}.{device} ({element}): the truth its model measured; the firmware's own "
-                 "reading (volts, levels, registers) is not recorded")
+    said = "the truth its model measured (blue) and the reading it gave the firmware (orange)" if reading else \
+        "the truth its model measured; no reading reached the firmware"
+    fig.suptitle(f"{robot}.{mcu}.{device} ({element}): {said}")
     fig.tight_layout(rect=(0, 0, 1, 0.95))  # moves the panels apart; the image keeps its size
     save(fig, out_dir, f"plot_sensor_{robot}.{mcu}.{device}.png")
 

@@ -32,6 +32,14 @@ struct RunOptions {
   std::optional<double> timeout_s;     // sim seconds after which pending expectations fail
   bool go_on = false;                  // run to the end even once every expectation is decided
   bool plots = true;                   // draw OUT/plot_*.png once the run is over (also off with SEAR_NO_PLOTS=1)
+  // The browser viewer (`sear run --view`, `sear view`) and the run's replay file.
+  bool view = false;                    // serve the viewer while the run goes on
+  std::string view_bind = "127.0.0.1";  // its address (--bind)
+  int view_port = 8080;                 // its port (--port); 0: any free one
+  bool view_wait_start = false;         // `sear view`: hold at t = 0 until the page's Start
+  bool view_keep_serving = false;       // `sear view`: serve the final state until Ctrl-C
+  std::string replay;                   // write the run's replay here (--replay)
+  double replay_rate_hz = 20;           // its frames per simulated second (--replay-rate)
 };
 
 // `sear run`'s exit code when an expectation failed (1: bad input, 3: an MCU stopped, 4: physics
@@ -42,6 +50,8 @@ inline constexpr int kExpectationFailedExitCode = 5;
 std::string resolve_project_path(const std::string& argument);
 
 int run_command(const RunOptions& options);
+// `sear view --replay FILE`: the viewer playing FILE back; no simulation runs.
+int view_replay_command(const std::string& file, const std::string& bind, int port);
 
 struct ProjectDesc;
 // Builds the firmware of every MCU that names C sources (cached) and records the executable in its

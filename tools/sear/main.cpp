@@ -137,6 +137,55 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(finite_number(0.01, 86400.0, false, "a number of seconds 0.01..86400"));
 
+  // The browser viewer: live beside a run (`run --view`, `view`), or a replay file played back.
+  CLI::Option* run_view = run_cmd->add_flag(
+      "--view", run.view, "Serve the browser viewer while the run goes on; it stops with the run (`sear view` stays)");
+  const auto add_view_address = [](CLI::App* cmd, sear::RunOptions& options) {
+    cmd->add_option("--bind", options.view_bind,
+                    "The viewer's IPv4 address; 0.0.0.0 opens it to other machines, and whoever reaches it can "
+                    "pause, reset and drive the run")
+        ->capture_default_str()
+        ->type_name("ADDR");
+    return cmd->add_option("--port", options.view_port, "The viewer's port; 0: any free one (the address is printed)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 65535));
+  };
+  add_view_address(run_cmd, run)->needs(run_view);
+  run_cmd->get_option("--bind")->needs(run_view);
+  run_cmd->add_option("--replay", run.replay,
+                      "Write the run's replay into FILE (gzip, the viewer's messages a line each) for `sear view --replay FILE`")
+      ->type_name("FILE");
+  run_cmd->add_option("--replay-rate", run.replay_rate_hz, "Replay frames per simulated second")
+      ->capture_default_str()
+      ->check(finite_number(0.1, 1000.0, false, "a rate of 0.1..1000 Hz"));
+
+  sear::RunOptions view;
+  view.view = view.view_keep_serving = true;
+  bool view_start = false;
+  std::string view_replay;
+  CLI::App* view_cmd = app.add_subcommand(
+      "view", "Run a project in the browser viewer: it waits at t = 0 for Start (Space), runs at real time, and stays "
+              "until Ctrl-C; or play a replay file back");
+  view_cmd->add_option("project", view.project, "Project file, folder or scenario file (default: the bundled default project)");
+  add_view_address(view_cmd, view);
+  view_cmd->add_flag("--start", view_start, "Start at once instead of waiting for Start");
+  view_cmd->add_option("--replay", view_replay, "Play FILE (written by `sear run --replay FILE`) back; no simulation runs")
+      ->type_name("FILE");
+  view_cmd->add_option("--realtime", view.realtime, "Speed, in times real time, until the page changes it (default 1)")
+      ->check(finite_number(0.001, 1e6, false, "a factor 0.001..1e6"));
+  view_cmd->add_option("-d,--duration", view.duration_s, "Simulated seconds to run (default: the project's)")
+      ->check(finite_number(0, sear::kMaxTime_s, true, "a number of seconds > 0 and <= 1e7"));
+  view_cmd->add_option("-s,--seed", view.seed, "Random seed (default: the project's)")->check(seed_number());
+  view_cmd->add_option("-o,--out", view.out_dir, "Output folder for traces and the summary")->capture_default_str();
+  view_cmd->add_option("-r,--trace-rate", view.trace_rate_hz, "Trace rows per simulated second (default: the project's)")
+      ->check(finite_number(sear::kMinTraceRate_hz, sear::kMaxTraceRate_hz, false, "a rate of 0.01..1e6 Hz"));
+  view_cmd->add_flag("-q,--quiet", view.quiet, "Print nothing but errors (and the viewer's address)");
+  view_cmd->add_flag("--keep-going", view.keep_going, "When a firmware stops, go on without that MCU");
+  view_cmd->add_option("--pty", view.ptys, "Give a UART device to host programs as a pseudo-terminal (as `sear run`)")
+      ->type_name("DEVICE");
+  view_cmd->add_option("--can", view.cans, "Bridge a CAN bus to SocketCAN (as `sear run`)")->type_name("[BUS=]IFACE");
+  view_cmd->add_flag("!--no-plots", view.plots, "Do not draw the plots after the run");
+
   std::string check_project;
   CLI::App* check_cmd = app.add_subcommand("check", "Validate a project without running it; lists every error found");
   check_cmd->add_option("project", check_project, "Project file, or a folder holding project.xml")->required();
@@ -168,6 +217,11 @@ int main(int argc, char** argv) {
   if (new_cmd->parsed()) return sear::new_command(new_project);
   if (test_cmd->parsed()) return sear::test_command(test);
   if (run_cmd->parsed()) return sear::run_command(run);
+  if (view_cmd->parsed()) {
+    if (!view_replay.empty()) return sear::view_replay_command(view_replay, view.view_bind, view.view_port);
+    view.view_wait_start = !view_start;
+    return sear::run_command(view);
+  }
   if (sensors_cmd->parsed()) return sear::sensors_command(sensors_format);
   return sear::check_command(check_project);
 }

@@ -28,6 +28,9 @@
 #include "sear/firmware_builder.hpp"
 #include "sear/host_ports.hpp"
 #include "lcm/lcm_bridge.hpp"
+#include "sear/view_command.hpp"
+#include "view/replay_file.hpp"
+#include "view/view_session.hpp"
 
 namespace sear {
 namespace {
@@ -133,6 +136,21 @@ int run_command(const RunOptions& options) {
       lcm = std::make_unique<LcmBridge>(
           LcmOptions{options.lcm_url, options.lcm_log, options.lcm_rate_hz, options.lcm_batch_rate_hz,
                      options.lcm_lockstep, options.lcm_timeout_s});
+    // The browser viewer and the replay file watch the run through one model of what it shows;
+    // both, like the server's port, last across resets.
+    std::unique_ptr<ViewModel> view_model;
+    if (options.view || !options.replay.empty()) view_model = std::make_unique<ViewModel>(*project);
+    std::unique_ptr<ViewSession> view;
+    if (options.view) {
+      view = std::make_unique<ViewSession>(
+          *project, *view_model,
+          ViewSessionOptions{view_server_options(options.view_bind, options.view_port),
+                             options.realtime.value_or(options.view_keep_serving ? 1.0 : 0.0), options.view_wait_start});
+      fmt::print(stderr, "sear: viewer on {}\n", view->server().url());
+    }
+    std::unique_ptr<ReplayFile> replay;
+    if (!options.replay.empty())
+      replay = std::make_unique<ReplayFile>(options.replay, *project, *view_model, options.replay_rate_hz);
     // Opened once: a host program keeps its pty or interface across a reset.
     const HostPorts host_ports(*project, options.ptys, options.cans, options.out_dir);
     for (const auto& port : host_ports.listing())
@@ -158,6 +176,10 @@ int run_command(const RunOptions& options) {
     if (lcm) taps.add(lcm.get());
     SensorCsv sensors(options.out_dir, *project, 1.0 / project->run.trace_rate_hz, max_file_bytes);
     taps.add(&sensors);
+    if (view_model) {
+      view_model->restart();
+      taps.add(view_model.get());
+    }
     std::unique_ptr<ExpectationChecker> checker;
     if (expecting) {
       checker = std::make_unique<ExpectationChecker>(*scenario, *project);
@@ -167,6 +189,8 @@ int run_command(const RunOptions& options) {
     Lockstep lockstep(sim, *project, lockstep_options, capture);
     host_ports.attach_can(lockstep);
     if (lcm) lcm->start_run(sim, *project);
+    if (view) view->start_run(sim);
+    if (replay) replay->start_run(sim);
     const std::int64_t end_ns = std::llround(project->run.duration_s * 1e9);
     const std::int64_t trace_every =
         std::max<std::int64_t>(1, std::llround(1e9 / project->run.trace_rate_hz / static_cast<double>(sim.step_ns())));
@@ -180,8 +204,13 @@ int run_command(const RunOptions& options) {
     std::int64_t steps = 0;
     std::size_t stops_reported = 0, events_reported = 0;
     bool physics_failed = false;
-    bool reset = false, controller_gone = false;
+    bool reset = false, controller_gone = false, view_reset = false;
     while (sim.time_ns() < end_ns && !stop_requested()) {
+      if (view) {
+        const ViewSession::Gate gate = view->before_step(sim);
+        if (gate == ViewSession::Gate::Reset) reset = view_reset = true;
+        if (gate != ViewSession::Gate::Step) break;
+      }
       if (lcm) {
         const LcmBridge::Gate gate = lcm->before_step();
         if (gate == LcmBridge::Gate::Reset) reset = true;
@@ -204,6 +233,8 @@ int run_command(const RunOptions& options) {
       }
       capture.advance_to(sim.time_ns());
       if (lcm) lcm->after_step();
+      if (view) view->after_step(sim);
+      if (replay) replay->after_step(sim);
       // A robot that left the world is reported at that moment; its MCUs end with it.
       for (; events_reported < sim.robot_events().size(); ++events_reported) {
         const RobotEvent& e = sim.robot_events()[events_reported];
@@ -216,6 +247,7 @@ int run_command(const RunOptions& options) {
         if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
         fmt::print(stderr, "sear: {} (its output: {}/{}.host.log)\n", describe(stop), options.out_dir, stop.mcu);
         if (checker) checker->mcu_stopped(stop.mcu, stop.failure.time_ns, describe(stop));
+        if (view_model) view_model->mcu_stopped(stop.mcu, describe(stop));
       }
       if (!go_on) break;
       // Every verdict known: nothing the run could still do changes the outcome.
@@ -224,7 +256,7 @@ int run_command(const RunOptions& options) {
       // Paced for host programs with timeouts of their own: never ahead of the wall clock.
       // A run that fell behind (paused over LCM, or slower than asked) goes on from where it is
       // rather than racing to catch up.
-      if (options.realtime) {
+      if (options.realtime && !view) {  // the viewer paces at its own speed
         const double ahead_s = sim.time_s() / *options.realtime - seconds_since(pace_start);
         if (ahead_s > 0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead_s));
         else if (ahead_s < -0.1) pace_start = Clock::now() - std::chrono::duration_cast<Clock::duration>(
@@ -239,10 +271,12 @@ int run_command(const RunOptions& options) {
     }
     if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
     if (reset) {
-      fmt::print(stderr, "sear: reset by SEAR/CONTROL: the run starts over at t = 0\n");
+      if (replay) replay->end_segment(sim);  // what the run logged since its last frame
+      fmt::print(stderr, "sear: reset by {}: the run starts over at t = 0\n", view_reset ? "the viewer" : "SEAR/CONTROL");
       goto start_over;
     }
     if (lcm) lcm->finish();
+    if (replay) replay->finish(sim);
     trace.flush();
     sensors.flush();
     capture.finish(sim.time_ns());
@@ -296,6 +330,11 @@ int run_command(const RunOptions& options) {
     const char* no_plots = std::getenv("SEAR_NO_PLOTS");
     if (options.plots && !(no_plots && *no_plots && std::string(no_plots) != "0") && !interrupted)
       write_plots(options.out_dir);
+    // `sear view` shows the end until Ctrl-C, or starts over when the page says so.
+    if (view && view->end_run(sim, outcome.status, options.view_keep_serving) == ViewSession::Gate::Reset) {
+      fmt::print(stderr, "sear: reset by the viewer: the run starts over at t = 0\n");
+      goto start_over;
+    }
     if (interrupted) {
       fmt::print(stderr, "sear: {}\n", interrupted_status());
       return interrupted_exit_code();

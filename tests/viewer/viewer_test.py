@@ -1,0 +1,327 @@
+#!/usr/bin/python3
+"""The browser viewer end to end: `sear view` serves the page, Debian's chromium (headless, through
+Selenium) loads it, and we check what a user would see: no console errors, a scene that is drawn and
+moves, keys that drive a robot in the simulation, pause that holds sim time, and a replay that opens.
+
+Usage: viewer_test.py SEAR_BINARY. Exit 77 (skipped) when chromium, chromedriver or Selenium are
+missing, unless CI is set: there a missing tool fails, named."""
+
+import csv
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+SKIP = 77
+CHROMIUM = "/usr/bin/chromium"
+CHROMEDRIVER = "/usr/bin/chromedriver"
+CHROME_ARGS = ["--headless=new", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+               "--disable-background-networking", "--disable-component-update", "--disable-sync",
+               "--no-first-run", "--window-size=1200,800"]
+
+failures = []
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what, flush=True)
+    if not ok:
+        failures.append(what)
+    return ok
+
+
+def missing_tools():
+    missing = [p for p in (CHROMIUM, CHROMEDRIVER) if not os.access(p, os.X_OK)]
+    for module, package in (("selenium", "python3-selenium"), ("PIL", "python3-pil")):
+        try:
+            __import__(module)
+        except ImportError:
+            missing.append(package)
+    return missing
+
+
+# ---- projects written for the test
+
+# The robot the screenshots follow drives itself by script (no firmware to build); the second one
+# has no MCU and no script, so only the keys move it. It stands 2 m to the side, out of mover's way.
+PROJECT = """<project name="viewer_test">
+  <run duration="{duration}" seed="1" trace_rate="50"/>
+  <world step="0.001">
+    <wall name="east" from="4 -1.5" to="4 1.5" height="0.4" thickness="0.15"/>
+  </world>
+  <robot file="{robots}/rover.xml" name="mover">
+    <pose x="0" y="0"/>
+    <script>
+      <motor t="0" name="left" duty="0.8" dir="forward"/>
+      <motor t="0" name="right" duty="0.8" dir="forward"/>
+    </script>
+  </robot>
+  <robot file="{robots}/rover.xml" name="driven">
+    <pose x="0" y="2"/>
+  </robot>
+</project>
+"""
+
+
+def write_project(folder, duration, robots):
+    os.makedirs(folder, exist_ok=True)
+    path = os.path.join(folder, "project.xml")
+    with open(path, "w") as f:
+        f.write(PROJECT.format(duration=duration, robots=robots))
+    return path
+
+
+# ---- sear view, in its own process group so that killing it leaves nothing behind
+
+class Viewer:
+    def __init__(self, args, env):
+        self.lines = []
+        self.proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                                     env=env, start_new_session=True)
+        self.url = None
+        got = threading.Event()
+
+        def read():
+            for line in self.proc.stderr:
+                self.lines.append(line)
+                m = re.search(r"viewer on (http://\S+)", line)
+                if m and not self.url:
+                    self.url = m.group(1)
+                    got.set()
+            got.set()
+        threading.Thread(target=read, daemon=True).start()
+        got.wait(20)
+        if not self.url:
+            self.stop()
+            raise RuntimeError("no 'viewer on URL' from %s:\n%s" % (" ".join(args), "".join(self.lines)))
+
+    def stop(self):
+        if self.proc.poll() is None:
+            try:
+                os.killpg(self.proc.pid, signal.SIGTERM)
+                self.proc.wait(10)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+                self.proc.wait()
+            except ProcessLookupError:
+                pass
+
+    def wait(self, seconds):
+        try:
+            return self.proc.wait(seconds)
+        except subprocess.TimeoutExpired:
+            return None
+
+
+def browser(profile):
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for a in CHROME_ARGS:
+        options.add_argument(a)
+    options.add_argument("--user-data-dir=" + profile)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    return webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+
+
+def dataset(driver, key):
+    return driver.execute_script("return document.body.dataset[arguments[0]]", key)
+
+
+def wait_for(what, predicate, timeout):
+    end = time.time() + timeout
+    while time.time() < end:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.05)
+    return predicate()
+
+
+def canvas_shot(driver):
+    """The 3D view only (not the panels), as a PIL image."""
+    import io
+    from PIL import Image
+    rect = driver.execute_script("var r = document.getElementById('view').getBoundingClientRect();"
+                                 "return [r.left, r.top, r.right, r.bottom, window.devicePixelRatio];")
+    image = Image.open(io.BytesIO(driver.get_screenshot_as_png())).convert("RGB")
+    s = rect[4]
+    return image.crop((int(rect[0] * s), int(rect[1] * s), int(rect[2] * s), int(rect[3] * s)))
+
+
+def robot_pixels(image):
+    """Pixels of the first robot's colour (0xff2a00, unlit in the page): strong red, little green or
+    blue. Nothing else in the scene is near it (terrain greens and browns, grey walls, yellow cones,
+    magenta hits: each fails one of the three bounds)."""
+    xs, ys = [], []
+    w, h = image.size
+    data = image.load()
+    for y in range(0, h):
+        for x in range(0, w):
+            r, g, b = data[x, y]
+            if r > 200 and g < 90 and b < 60:
+                xs.append(x)
+                ys.append(y)
+    if not xs:
+        return 0, None
+    return len(xs), (sum(xs) / len(xs), sum(ys) / len(ys))
+
+
+def severe_entries(driver):
+    return [e for e in driver.get_log("browser") if e.get("level") == "SEVERE"]
+
+
+def read_trace(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def live_case(sear, work, env, robots, profile):
+    """Checks 1-4 on one live run of the test project."""
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.support.ui import Select
+    # 12 s of sim: long enough for every live check at real time, short enough to end by itself
+    # so that the traces are complete when we read them.
+    project = write_project(os.path.join(work, "live"), 12, robots)
+    out = os.path.join(work, "live-out")
+    viewer = Viewer([sear, "view", project, "--port", "0", "--start", "-o", out], env)
+    driver = browser(profile)
+    try:
+        driver.get(viewer.url + "?camera=top")
+        wait_for("frames", lambda: int(dataset(driver, "frames") or 0) > 5, 10)
+        check(dataset(driver, "mode") == "live", "1. hello says live mode (mode=%s)" % dataset(driver, "mode"))
+        check(int(dataset(driver, "frames") or 0) > 5, "1. page draws frames (%s)" % dataset(driver, "frames"))
+        severe = severe_entries(driver)
+        check(not severe, "1. no SEVERE console entries on load %s" % severe)
+
+        # 2. Not blank, and the scripted robot's pixels move on the top-down camera.
+        first = canvas_shot(driver)
+        colours = len(set(first.getdata()))
+        most = max(n for n, _ in first.getcolors(first.size[0] * first.size[1]))
+        # A blank view is one clear colour. The top view of this flat world is mostly one
+        # green, but its grid lines, wall and robots cover some 5 % of it: 1 % is well below.
+        check(colours >= 20 and most < 0.99 * first.size[0] * first.size[1],
+              "2. screenshot not blank (%d colours, commonest covers %.1f %%)" %
+              (colours, 100.0 * most / (first.size[0] * first.size[1])))
+        n1, c1 = robot_pixels(first)
+        time.sleep(1.0)
+        n2, c2 = robot_pixels(canvas_shot(driver))
+        # At 0.8 duty the rover rolls at about 0.5 m/s (0.754 m/s no-load wheel speed, 160 rpm on
+        # 45 mm wheels): ~0.5 m in 1 s, tens of pixels at the top view's scale (~80 px/m); 5 px
+        # is well above the jitter of an antialiased edge.
+        check(n1 >= 20 and n2 >= 20, "2. robot found by its colour (%d, %d px)" % (n1, n2))
+        if c1 and c2:
+            moved = ((c1[0] - c2[0]) ** 2 + (c1[1] - c2[1]) ** 2) ** 0.5
+            check(moved > 5, "2. robot's pixels moved %.1f px in 1 s" % moved)
+
+        # 3. Keys drive the robot with no MCU: one press of U (no auto-repeat from Selenium) sets
+        # 0.25 duty (kDutyPerPress, tools/view/view_session.cpp), which stays after the release.
+        Select(driver.find_element("id", "keyrobot")).select_by_value("driven")
+        t_key = float(dataset(driver, "simTime"))
+        ActionChains(driver).key_down("u").pause(1.5).key_up("u").perform()
+        t_key_end = float(dataset(driver, "simTime"))
+
+        # 4. Pause holds sim time; resume lets it run on.
+        driver.find_element("id", "pause").click()
+        wait_for("paused", lambda: dataset(driver, "state") == "paused", 3)
+        held = dataset(driver, "simTime")
+        time.sleep(1.0)
+        still = dataset(driver, "simTime")
+        check(dataset(driver, "state") == "paused" and held == still,
+              "4. paused: sim time held (%s -> %s)" % (held, still))
+        driver.find_element("id", "resume").click()
+        wait_for("running", lambda: float(dataset(driver, "simTime")) > float(still) + 0.3, 3)
+        check(float(dataset(driver, "simTime")) > float(still) + 0.3,
+              "4. resumed: sim time runs on (%s -> %s)" % (still, dataset(driver, "simTime")))
+
+        ended = wait_for("ended", lambda: dataset(driver, "state") == "ended", 15)
+        check(ended, "the live run ends at its duration (state %s)" % dataset(driver, "state"))
+        severe = severe_entries(driver)
+        check(not severe, "1. no SEVERE console entries during the run %s" % severe)
+    finally:
+        driver.quit()
+        viewer.stop()
+
+    trace = os.path.join(out, "trace_driven.csv")
+    if not check(os.path.exists(trace), "3. trace of the key-driven robot written (%s)" % trace):
+        return
+    rows = read_trace(trace)
+    x0 = float(rows[0]["x_m"])
+    before = [float(r["x_m"]) for r in rows if float(r["time_s"]) <= t_key]
+    after = [float(r["x_m"]) for r in rows if float(r["time_s"]) >= t_key_end + 0.5]
+    # At rest the robot only settles (2 mm in 3 s here). U drives it forward (+x, it faces east):
+    # 0.25 duty of the 0.754 m/s no-load wheel speed (160 rpm, 45 mm wheels) is ~0.19 m/s, so
+    # from the press to 0.5 s after the release (2 s) it covers ~0.3 m even counting the
+    # spin-up; 5 cm is far above settling and far below that.
+    rest = max(abs(x - x0) for x in before) if before else 0
+    check(rest < 0.02, "3. driven robot at rest before the key (moved %.3f m)" % rest)
+    if check(bool(after), "3. trace runs past the key press"):
+        check(max(after) - x0 > 0.05, "3. key U moved the robot %.3f m forward" % (max(after) - x0))
+
+
+def replay_case(sear, work, env, robots, profile):
+    """Check 5: a replay file of a 2 s run opens with its timeline."""
+    project = write_project(os.path.join(work, "replay"), 2, robots)
+    replay = os.path.join(work, "run.replay.gz")
+    run = subprocess.run([sear, "run", project, "--replay", replay, "-d", "2", "-q", "-o", os.path.join(work, "replay-out")],
+                         env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+    if not check(run.returncode == 0 and os.path.exists(replay), "5. sear run --replay wrote %s (exit %d)" %
+                 (replay, run.returncode)):
+        print(run.stdout)
+        return
+    viewer = Viewer([sear, "view", "--replay", replay, "--port", "0"], env)
+    driver = browser(profile)
+    try:
+        driver.get(viewer.url + "?camera=top")
+        wait_for("replay", lambda: float(driver.execute_script(
+            "return document.getElementById('timeline').max") or 0) > 0, 10)
+        check(dataset(driver, "mode") == "replay", "5. hello says replay mode (mode=%s)" % dataset(driver, "mode"))
+        top = float(driver.execute_script("return document.getElementById('timeline').max") or 0)
+        # Frames every 1/20 s (the default replay rate): the last is at the run's end, 2 s.
+        check(abs(top - 2.0) <= 0.05 + 1e-9, "5. timeline max %.3f = the run's 2 s" % top)
+        driver.execute_script("var t = document.getElementById('timeline'); t.value = '1';"
+                              "t.dispatchEvent(new Event('input'));")
+        shown = float(wait_for("scrub", lambda: dataset(driver, "simTime") if abs(
+            float(dataset(driver, "simTime") or -1) - 1.0) <= 0.05 + 1e-9 else None, 3) or -1)
+        check(abs(shown - 1.0) <= 0.05 + 1e-9, "5. scrubbed to the middle: frame at t=%.3f s shown" % shown)
+        severe = severe_entries(driver)
+        check(not severe, "5. no SEVERE console entries in replay %s" % severe)
+    finally:
+        driver.quit()
+        viewer.stop()
+
+
+def main():
+    if len(sys.argv) != 2:
+        print(__doc__)
+        return 2
+    sear = os.path.abspath(sys.argv[1])
+    missing = missing_tools()
+    if missing:
+        if os.environ.get("CI", "").lower() in ("1", "true", "yes"):
+            print("FAIL missing under CI: " + ", ".join(missing))
+            return 1
+        print("SKIP missing: " + ", ".join(missing))
+        return SKIP
+    robots = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "assets", "robots")
+    env = dict(os.environ, SEAR_NO_PLOTS="1")
+    work = tempfile.mkdtemp(prefix="sear-viewer-")
+    started = time.time()
+    try:
+        live_case(sear, work, env, os.path.abspath(robots), os.path.join(work, "profile-live"))
+        replay_case(sear, work, env, os.path.abspath(robots), os.path.join(work, "profile-replay"))
+    except Exception as e:  # a case that could not even run is a failure, with its reason
+        check(False, "%s: %s" % (type(e).__name__, e))
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    print("%d failure(s) in %.1f s" % (len(failures), time.time() - started))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

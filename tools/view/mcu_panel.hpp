@@ -1,0 +1,72 @@
+// One MCU's panel in the viewer: the levels, duties and pulses its firmware drives, what its
+// devices' models gave it and were fed, its console lines and each UART device's traffic, kept
+// from the run's hooks at little cost per event and turned into JSON for a frame.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "lockstep_link.h"
+#include "scene/description.hpp"
+#include "view/mcu_panel_log.hpp"
+#include "view/scene_json.hpp"
+#include "view/uart_decode.hpp"
+
+namespace sear {
+
+// Console lines longer than this are cut into pieces: a firmware that never prints '\n' still shows.
+constexpr std::size_t kMaxConsoleLine = 512;
+
+struct PanelDevice {
+  std::string name;
+  std::string element;
+  SensorView view = SensorView::None;
+  bool has_truth = false;
+  std::array<double, SEAR_LINK_SAMPLE_VALUES> truth{};
+  std::size_t truth_count = 0;
+  std::vector<double> reading;  // empty until the model said something
+  std::unique_ptr<UartStream> to_device, from_device;  // UART devices only
+};
+
+class McuPanel {
+ public:
+  McuPanel(const McuDesc& desc, std::string id, int index);
+
+  const std::string& id() const { return id_; }
+  const std::string& can_bus() const { return can_bus_; }
+  const std::vector<PanelDevice>& devices() const { return devices_; }
+
+  void on_event(const sear_event& e, LogRing& log);
+  void on_sample(std::size_t device, const sear_link_sample& sample);
+  void on_reading(std::size_t device, const double* values, std::size_t count);
+  void on_wire_bytes(std::size_t device, bool from_device, const serial_byte* bytes, std::size_t count, LogRing& log);
+  void stopped(const std::string& why) { stopped_ = why; }
+  // Not watching: console bytes and UART traffic are neither decoded nor logged (levels, samples
+  // and readings still are: they cost an array write). Watching again, each resumes at its next
+  // message boundary (the next line, '$', STX) so that no torn message shows.
+  void set_watching(bool watching);
+  void reset();
+
+  // "running", "stopped", "pins", "pwm", "servo", "readings", "truth" into `out`.
+  void put_state(nlohmann::ordered_json& out) const;
+
+ private:
+  std::string id_;
+  int index_;
+  int console_uart_;
+  std::string can_bus_;
+  std::vector<PanelDevice> devices_;
+  std::map<int, int> pins_, pwm_, servo_;
+  std::string console_;           // the line being printed
+  std::string stopped_;           // empty: running
+  bool watching_ = true;
+  bool console_hunting_ = false;  // watching again: skipping to the end of the line under way
+  std::vector<LogEntry> decoded_;  // scratch for UART streams
+};
+
+}  // namespace sear
