@@ -189,10 +189,15 @@ def live_case(sear, work, env, robots, profile):
     # so that the traces are complete when we read them.
     project = write_project(os.path.join(work, "live"), 12, robots)
     out = os.path.join(work, "live-out")
-    viewer = Viewer([sear, "view", project, "--port", "0", "--start", "-o", out], env)
+    # Without --start the run waits at t = 0 for Space: the page's own start, and no race with a
+    # browser that takes long to come up on a loaded machine.
+    viewer = Viewer([sear, "view", project, "--port", "0", "-o", out], env)
     driver = browser(profile)
     try:
         driver.get(viewer.url + "?camera=top")
+        wait_for("first frame", lambda: int(dataset(driver, "frames") or 0) >= 1, 30)
+        check(float(dataset(driver, "simTime") or -1) == 0, "1. waits at t = 0 (%s)" % dataset(driver, "simTime"))
+        ActionChains(driver).send_keys(" ").perform()
         wait_for("frames", lambda: int(dataset(driver, "frames") or 0) > 5, 10)
         check(dataset(driver, "mode") == "live", "1. hello says live mode (mode=%s)" % dataset(driver, "mode"))
         check(int(dataset(driver, "frames") or 0) > 5, "1. page draws frames (%s)" % dataset(driver, "frames"))

@@ -20,8 +20,10 @@ struct ViewServerOptions {
   std::string three_dir;           // libjs-three's folder (/usr/share/javascript/three)
   std::string replay_file;         // served as /replay when not empty (a gzip file)
   // How long a write to a page may wait for it to read before the page is given up; also how
-  // long a page may stay silent before it is pinged (browsers answer pings by themselves).
-  int write_timeout_ms = 2000;
+  // long a page may stay silent before it is pinged (browsers answer pings by themselves). Long:
+  // a browser starved of CPU (rendering in software beside a busy run) can go seconds without
+  // reading, and a page that lags costs the run nothing (it only gets the newest frame).
+  int write_timeout_ms = 15000;
 };
 
 // The server could not start: its address was taken, or a folder it serves is missing.

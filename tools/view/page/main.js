@@ -170,7 +170,8 @@ var SEAR = window.SEAR || (window.SEAR = {});
     var state = m.ended ? "ended" : (m.paused ? "paused" : "running");
     var speed = m.speed ? m.speed + "x" : "max";
     var text = state + (m.ended && m.reason ? ": " + m.reason : "") + " · speed " + speed +
-               " · RTF " + (typeof m.rtf === "number" ? m.rtf.toFixed(2) : "-");
+               " · RTF " + (typeof m.rtf === "number" ? m.rtf.toFixed(2) : "-") +
+               (m.frames_skipped ? " · " + m.frames_skipped + " frames skipped (slow link)" : "");
     view.setState(state, text);
     var sel = $("speed");
     if (document.activeElement !== sel) {
@@ -209,9 +210,10 @@ var SEAR = window.SEAR || (window.SEAR = {});
       try { m = JSON.parse(ev.data); } catch (e) { return; }
       onMessage(m);
     };
-    socket.onclose = function () {
+    socket.onclose = function (ev) {
       if (view.replay) return;
-      $("status").textContent += " · disconnected";
+      // The server says why it closed a page (too many pages watching, say).
+      $("status").textContent += " · disconnected" + (ev.reason ? ": " + ev.reason : "");
       body.dataset.connected = "false";
     };
     socket.onopen = function () { body.dataset.connected = "true"; };
