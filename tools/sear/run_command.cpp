@@ -23,6 +23,7 @@
 #include "exporters/trace_csv.hpp"
 #include "runtime/process_keeper.hpp"
 #include "runtime/stop_request.hpp"
+#include "runtime/wall_pace.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
 #include "sear/firmware_builder.hpp"
@@ -197,7 +198,7 @@ int run_command(const RunOptions& options) {
 
     const bool show_progress = !options.quiet && isatty(STDERR_FILENO);
     const auto start = Clock::now();
-    auto pace_start = start;  // --realtime's reference: sim time 0 on the wall clock
+    WallPace pace;  // --realtime's: sim time 0 is now
     double next_progress_s = 2.0;  // short runs finish before a progress line would help
 
     trace.write_row(sim);
@@ -257,10 +258,8 @@ int run_command(const RunOptions& options) {
       // A run that fell behind (paused over LCM, or slower than asked) goes on from where it is
       // rather than racing to catch up.
       if (options.realtime && !view) {  // the viewer paces at its own speed
-        const double ahead_s = sim.time_s() / *options.realtime - seconds_since(pace_start);
+        const double ahead_s = pace.ahead_s(sim.time_s(), *options.realtime);
         if (ahead_s > 0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead_s));
-        else if (ahead_s < -0.1) pace_start = Clock::now() - std::chrono::duration_cast<Clock::duration>(
-                                                               std::chrono::duration<double>(sim.time_s() / *options.realtime));
       }
       if (show_progress && (steps & 1023) == 0 && seconds_since(start) >= next_progress_s) {
         next_progress_s += 0.5;

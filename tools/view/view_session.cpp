@@ -32,10 +32,6 @@ constexpr double kDutyPerPress = 0.25;
 // Held H/K (or ArrowLeft/ArrowRight) spin the robot: this much duty is taken from the inner side
 // and added to the outer one, so that at a standstill the robot turns on the spot.
 constexpr double kSpinDuty = 0.5;
-// The run fell this far behind the speed asked for (a slow host): it goes on from where it is
-// rather than racing to catch up, as --realtime does.
-constexpr double kMaxLagS = 0.1;
-
 template <typename Duration>
 double seconds(Duration d) { return std::chrono::duration<double>(d).count(); }
 
@@ -90,13 +86,8 @@ void ViewSession::start_run(Simulation& sim) {
   steps_left_ = 0;
   rate_wall_ = Clock::now();
   rate_sim_s_ = sim.time_s();
-  repace(sim);
+  pace_.anchor(sim.time_s());
   if (server_->has_clients()) send_state(sim);
-}
-
-void ViewSession::repace(const Simulation& sim) {
-  pace_wall_ = Clock::now();
-  pace_sim_s_ = sim.time_s();
 }
 
 std::string ViewSession::status_json(double t_s) const {
@@ -141,13 +132,12 @@ ViewSession::Gate ViewSession::before_step(Simulation& sim) {
     }
     if (holding_) {
       holding_ = false;
-      repace(sim);
+      pace_.anchor(sim.time_s());
     }
     if (speed_ <= 0) break;
     // Never ahead of the wall clock times the speed. A slow speed waits long (a 1 ms step at
     // 0.001x: a second), so it waits in slices, the commands and Ctrl-C looked at between them.
-    const double ahead_s = (sim.time_s() - pace_sim_s_) / speed_ - seconds(Clock::now() - pace_wall_);
-    if (ahead_s < -kMaxLagS) repace(sim);
+    const double ahead_s = pace_.ahead_s(sim.time_s(), speed_);
     if (ahead_s <= 0) break;
     if (server_->connections() != connections_seen_ && server_->has_clients()) send_state(sim);
     std::this_thread::sleep_for(std::chrono::duration<double>(std::min(ahead_s, seconds(kHoldPoll))));
@@ -217,7 +207,7 @@ void ViewSession::apply(const ViewCommand& c, Simulation& sim) {
       break;
     case ViewCommand::Kind::Speed:
       speed_ = c.factor;
-      repace(sim);
+      pace_.anchor(sim.time_s());
       break;
     case ViewCommand::Kind::Key:
       drive(c, sim);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/wall_pace.hpp"
 #include "view/view_model.hpp"
 #include "view/view_server.hpp"
 
@@ -61,7 +62,6 @@ class ViewSession {
   void drive(const ViewCommand& command, Simulation& sim);
   void send_state(const Simulation& sim);
   std::string status_json(double t_s) const;
-  void repace(const Simulation& sim);
 
   ViewModel& model_;
   std::unique_ptr<ViewServer> server_;
@@ -82,9 +82,7 @@ class ViewSession {
   // The rate of the run, over the time between two frames.
   Clock::time_point rate_wall_{};
   double rate_sim_s_ = 0, rtf_ = 0;
-  // Pacing: sim time pace_sim_s_ was at pace_wall_ on the wall clock.
-  Clock::time_point pace_wall_{};
-  double pace_sim_s_ = 0;
+  WallPace pace_;  // at speed_
 };
 
 }  // namespace sear
