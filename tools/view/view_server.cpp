@@ -138,39 +138,38 @@ std::string real_path(const std::string& path) {
   return ::realpath(path.c_str(), buffer) ? std::string(buffer) : std::string();
 }
 
+// A TCP socket for a numeric address and port, handed to `use` with the address; false when the
+// address is not numeric. For the two times the server talks to its own port.
+template <class F>
+bool with_socket(const std::string& address, int port, F use) {
+  addrinfo hints{};
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_NUMERICHOST | AI_NUMERICSERV;
+  addrinfo* found = nullptr;
+  if (::getaddrinfo(address.c_str(), std::to_string(port).c_str(), &hints, &found) != 0 || !found) return false;
+  const int fd = ::socket(found->ai_family, found->ai_socktype, found->ai_protocol);
+  if (fd >= 0) {
+    use(fd, *found);
+    ::close(fd);
+  }
+  ::freeaddrinfo(found);
+  return true;
+}
+
 // civetweb says only that it failed to set up its ports; binding the address here once more
 // says why (most often: another server has it).
 std::string bind_failure(const std::string& bind, int port, const std::string& civetweb_says) {
-  addrinfo hints{};
-  hints.ai_socktype = SOCK_STREAM;
-  hints.ai_flags = AI_NUMERICHOST | AI_NUMERICSERV;
-  addrinfo* found = nullptr;
-  if (::getaddrinfo(bind.c_str(), std::to_string(port).c_str(), &hints, &found) != 0 || !found)
-    return "not a numeric IPv4 or IPv6 address";
   std::string why = civetweb_says;
-  const int fd = ::socket(found->ai_family, found->ai_socktype, found->ai_protocol);
-  if (fd >= 0) {
+  const bool numeric = with_socket(bind, port, [&](int fd, const addrinfo& a) {
     const int one = 1;
     ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    if (::bind(fd, found->ai_addr, found->ai_addrlen) != 0) why = ::strerror(errno);
-    ::close(fd);
-  }
-  ::freeaddrinfo(found);
-  return why;
+    if (::bind(fd, a.ai_addr, a.ai_addrlen) != 0) why = ::strerror(errno);
+  });
+  return numeric ? why : "not a numeric IPv4 or IPv6 address";
 }
 
 void wake_listener(const std::string& address, int port) {
-  addrinfo hints{};
-  hints.ai_socktype = SOCK_STREAM;
-  hints.ai_flags = AI_NUMERICHOST | AI_NUMERICSERV;
-  addrinfo* found = nullptr;
-  if (::getaddrinfo(address.c_str(), std::to_string(port).c_str(), &hints, &found) != 0 || !found) return;
-  const int fd = ::socket(found->ai_family, found->ai_socktype, found->ai_protocol);
-  if (fd >= 0) {
-    (void)::connect(fd, found->ai_addr, found->ai_addrlen);
-    ::close(fd);
-  }
-  ::freeaddrinfo(found);
+  with_socket(address, port, [](int fd, const addrinfo& a) { (void)::connect(fd, a.ai_addr, a.ai_addrlen); });
 }
 
 bool is_regular_file(const std::string& path) {
