@@ -289,8 +289,8 @@ TEST(GnssNmea, TimingAtTheBaudRateAndOverflow) {
   EXPECT_EQ(fast.tx.dropped_bytes, 0u);
 }
 
-// UBX: the CFG-RATE vector and its ACK, CFG-MSG, CFG-PRT baud change, NAK for what the model
-// does not offer, a bad checksum ignored; PUBX,40; PMTK ignored.
+// UBX: the CFG-RATE vector and its ACK, CFG-MSG, CFG-PRT baud change, NAK for what a u-blox 6
+// does not have, a bad checksum ignored; PUBX,40; PMTK ignored.
 TEST(GnssUbx, ConfigurationAndAcknowledgements) {
   auto feed = rover_feed();
   ublox_neo6m_config c = talker_config(ublox_neo6m_defaults, 0.0);
@@ -327,9 +327,10 @@ TEST(GnssUbx, ConfigurationAndAcknowledgements) {
   const std::uint8_t rate1[6] = {0xE8, 0x03, 0x01, 0x00, 0x01, 0x00};
   n = ubx_frame(0x06, 0x08, rate1, 6, buf);
   send(d, 3 * kSecond + 50000000, std::vector<std::uint8_t>(buf, buf + n));
-  // CFG-MSG for UBX NAV-POSLLH (01 02): UBX output is not modelled, so NAK (ACK-NAK, class 05 id 00).
-  const std::uint8_t posllh[3] = {0x01, 0x02, 0x01};
-  n = ubx_frame(0x06, 0x01, posllh, 3, buf);
+  // CFG-MSG for UBX NAV-PVT (01 07): a message u-blox 7 brought, so a u-blox 6 refuses it (ACK-NAK,
+  // class 05 id 00).
+  const std::uint8_t pvt[3] = {0x01, 0x07, 0x01};
+  n = ubx_frame(0x06, 0x01, pvt, 3, buf);
   send(d, 3 * kSecond + 100000000, std::vector<std::uint8_t>(buf, buf + n));
   // A corrupted checksum is ignored (no answer at all).
   n = ubx_frame(0x06, 0x08, rate1, 6, buf);

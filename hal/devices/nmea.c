@@ -278,6 +278,9 @@ void nmea_solve(struct nmea_solution *f, struct gnss_error *e, struct gnss_truth
   f->altitude_msl_m = height - truth.geoid_separation_m;
   f->geoid_separation_m = truth.geoid_separation_m;
   const double ve = truth.east_mps + err.east_mps, vn = truth.north_mps + err.north_mps;
+  f->east_mps = ve;
+  f->north_mps = vn;
+  f->up_mps = truth.up_mps + err.up_mps;
   f->speed_mps = hypot(ve, vn);
   double course = atan2(ve, vn) * (180.0 / 3.14159265358979323846);
   if (course < 0.0) course += 360.0;

@@ -59,6 +59,7 @@ struct nmea_solution {
   int64_t utc_ms;             /* of the measurement epoch */
   double latitude_deg, longitude_deg, altitude_msl_m, geoid_separation_m;
   double speed_mps, course_deg; /* over ground; course clockwise from true north, [0, 360) */
+  double east_mps, north_mps, up_mps; /* the velocity these come from, in the local frame */
   int used_count;             /* satellites in the solution (first used_count of used_prn) */
   int used_prn[NMEA_MAX_SATELLITES];
   double pdop, hdop, vdop;

@@ -1,28 +1,15 @@
-/* NEO-6M talker: the epoch schedule on the UTC grid, the NMEA cycle, and the UBX/PUBX
- * configuration parsers with their ACK-ACK / ACK-NAK answers. */
+/* NEO-6M talker: the epoch schedule on the UTC grid, the NMEA cycle and the UBX NAV messages of
+ * each epoch from one solution, the UBX/PUBX input parsers, polls and ACK-ACK / ACK-NAK answers. */
 #include "ublox_neo6m.h"
 
 #include <stdlib.h>
 #include <string.h>
 
+#include "ubx_cfg.h"
+
 #define UBX_SYNC1 0xB5
 #define UBX_SYNC2 0x62
-#define UBX_CLASS_ACK 0x05
-#define UBX_CLASS_CFG 0x06
-#define UBX_CFG_PRT 0x00
-#define UBX_CFG_MSG 0x01
-#define UBX_CFG_RATE 0x08
-#define UBX_CFG_CFG 0x09
-#define UBX_CFG_NAV5 0x24
-#define UBX_NMEA_CLASS 0xF0
-#define UART1 1 /* CFG-PRT portID of the module's only UART pins (u-blox 6 spec, "Port Numbers") */
-#define PROTO_UBX 1u
-#define PROTO_NMEA 2u
-#define MODE_8N1 0x08D0u /* charLen 11 (8 bit), parity 100 (none), nStopBits 00 (1) */
-
-static const uint32_t bauds[] = {4800, 9600, 19200, 38400, 57600, 115200};
-
-static int baud_ok(uint32_t b) { return gnss_baud_listed(bauds, sizeof bauds / sizeof bauds[0], b); }
+#define MON_VER 0x04
 
 /* The banner a NEO-6M with firmware 7.03 prints at power-up (as logged from real modules). */
 static const char *const banner[] = {
@@ -32,6 +19,13 @@ static const char *const banner[] = {
     "GPTXT,01,01,02,ANTSUPERV=AC SD PDoS SR",
     "GPTXT,01,01,02,ANTSTATUS=DONTKNOW",
 };
+
+/* MON-VER of the same module: swVersion CH[30], hwVersion CH[10], then one 30-character block
+ * holding the ROM version (the u-blox 6 spec's romVersion; drivers that read u-blox 7's layout
+ * take it as the first extension string). NUL-padded. */
+static const char mon_sw[] = "7.03 (45969)";
+static const char mon_hw[] = "00040007";
+#define MON_VER_LEN 70
 
 static const struct nmea_style style = {2, 5, 3, 1, 0};
 
@@ -65,20 +59,68 @@ void ublox_neo6m_init(struct ublox_neo6m *s, const struct ublox_neo6m_config *c,
   memset(s, 0, sizeof *s);
   s->src = src;
   gnss_error_init(&s->error, &c->error);
-  nmea_tx_init(&s->tx, baud_ok(c->baud) ? c->baud : UBLOX_DEFAULT_BAUD, UBLOX_TX_BUFFER);
+  nmea_tx_init(&s->tx, ubx_cfg_baud_ok(c->baud) ? c->baud : UBLOX_DEFAULT_BAUD, UBLOX_TX_BUFFER);
   gnss_talker_init(&s->talker, power_on_ns, UBLOX_BOOT_NS, c->utc_start_s, c->rate_hz);
   s->time_ref = 1; /* u-blox 6 default: measurements aligned to GPS time */
-  /* Factory default (u-blox 6 spec, CFG-MSG): GGA GLL GSA GSV RMC VTG on, the rest off. */
+  /* Factory default (u-blox 6 spec, CFG-MSG): GGA GLL GSA GSV RMC VTG on, the rest off, and no
+   * UBX output until a driver asks for it. */
   for (int i = UBLOX_GGA; i <= UBLOX_VTG; ++i) s->rate[i] = 1;
-  s->in_proto = PROTO_UBX | PROTO_NMEA;
-  s->out_proto = PROTO_UBX | PROTO_NMEA;
-  s->port_mode = MODE_8N1;
+  s->in_proto = UBX_PROTO_UBX | UBX_PROTO_NMEA;
+  s->out_proto = UBX_PROTO_UBX | UBX_PROTO_NMEA;
+  s->port_mode = UBX_MODE_8N1;
+  ubx_cfg_defaults(s);
 }
 
 uint32_t ublox_neo6m_baud(const struct ublox_neo6m *s) { return s->tx.baud; }
 
 static void send_nmea(struct ublox_neo6m *s, int64_t ready, const char *text, size_t n) {
-  if (n && (s->out_proto & PROTO_NMEA)) nmea_tx_queue(&s->tx, ready, text, n, 0);
+  if (n && (s->out_proto & UBX_PROTO_NMEA)) nmea_tx_queue(&s->tx, ready, text, n, 0);
+}
+
+/* A UBX message: periodic output (force 0) shares the output buffer with the NMEA sentences and
+ * is dropped whole when it does not fit; answers to commands are forced. */
+static void send_ubx(struct ublox_neo6m *s, int64_t ready, uint8_t cls, uint8_t id, const uint8_t *payload,
+                     uint16_t len, int force) {
+  if (!(s->out_proto & UBX_PROTO_UBX)) return;
+  uint8_t frame[UBLOX_MAX_OUT_PAYLOAD + 8];
+  const size_t n = ubx_frame(cls, id, payload, len, frame);
+  nmea_tx_queue(&s->tx, ready, frame, n, force);
+}
+
+void ublox_neo6m_reply(struct ublox_neo6m *s, int64_t t, uint8_t cls, uint8_t id, const uint8_t *payload,
+                       uint16_t len) {
+  send_ubx(s, t + UBLOX_REPLY_DELAY_NS, cls, id, payload, len, 1);
+}
+
+void ublox_neo6m_acknowledge(struct ublox_neo6m *s, int64_t t, int ok) {
+  const uint8_t which[2] = {s->ubx_class, s->ubx_id};
+  ublox_neo6m_reply(s, t, UBX_CLASS_ACK, ok ? 0x01 : 0x00, which, 2);
+  if (ok) ++s->acks;
+  else ++s->naks;
+}
+
+/* What the NAV messages say about the epoch at t whose solution is f. */
+static void fill_epoch(struct ublox_neo6m *s, const struct nmea_solution *f, int64_t t) {
+  struct ubx_epoch *e = &s->last;
+  const struct gnss_talker *g = &s->talker;
+  e->fix = *f;
+  ubx_gps_time(g->next_epoch_ms, &e->week, &e->itow_ms);
+  const int64_t since_ms = (t - g->power_on_ns) / 1000000;
+  e->msss = (uint32_t)(since_ms & 0xFFFFFFFF);
+  if (f->valid && s->ttff_ms == 0) s->ttff_ms = (uint32_t)((t - g->start_ns) / 1000000);
+  e->ttff_ms = s->ttff_ms;
+  /* Accuracy estimates from the error model: horizontal RMS (HDOP x UERE, sqrt 2 of the per-axis
+   * sigma), vertical sigma, 3D speed RMS (sqrt 3 of the per-axis sigma). */
+  e->h_acc_m = 1.4142135623730951 * s->error.sigma_horizontal_m;
+  e->v_acc_m = s->error.sigma_vertical_m;
+  e->s_acc_mps = 1.7320508075688772 * s->error.config.velocity_sd_mps;
+  e->sbas_enabled = s->sbas[0] & 1;
+}
+
+static void send_nav(struct ublox_neo6m *s, int64_t ready, enum ubx_nav_msg m, int force) {
+  uint8_t payload[UBX_NAV_MAX_PAYLOAD];
+  const uint16_t n = ubx_nav_payload(m, &s->last, payload);
+  send_ubx(s, ready, UBX_CLASS_NAV, ubx_nav_id(m), payload, n, force);
 }
 
 static void epoch(void *talker) {
@@ -87,7 +129,11 @@ static void epoch(void *talker) {
   const int64_t t = gnss_talker_epoch_ns(g, g->next_epoch_ms);
   struct nmea_solution f;
   nmea_solve(&f, &s->error, s->src, t, g->power_on_ns, g->start_ns, g->next_epoch_ms, 0);
+  fill_epoch(s, &f, t);
   const int64_t ready = t + UBLOX_OUTPUT_DELAY_NS;
+  /* UBX first, in message-id order, then the NMEA set, both from the one solution f. */
+  for (int m = 0; m < UBX_NAV_MSGS; ++m)
+    if (gnss_talker_due(g, s->nav_rate[m])) send_nav(s, ready, (enum ubx_nav_msg)m, 0);
   char text[NMEA_MAX_SENTENCE + 1];
 #define DUE(id) gnss_talker_due(g, s->rate[id])
   /* The order a NEO-6M prints its default set in. */
@@ -118,118 +164,32 @@ size_t ublox_neo6m_transmit(struct ublox_neo6m *s, int64_t now_ns, int64_t until
   return gnss_talker_transmit(&s->talker, &events, s, &s->tx, now_ns, until_ns, out, cap);
 }
 
-/* ---- configuration input ---- */
+/* ---- UBX input ---- */
 
-static uint16_t u16_at(const uint8_t *p) { return (uint16_t)(p[0] | p[1] << 8); }
-static uint32_t u32_at(const uint8_t *p) {
-  return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-static void put16(uint8_t *p, uint32_t v) {
-  p[0] = (uint8_t)(v & 0xFF);
-  p[1] = (uint8_t)(v >> 8 & 0xFF);
-}
-static void put32(uint8_t *p, uint32_t v) {
-  put16(p, v & 0xFFFF);
-  put16(p + 2, v >> 16);
-}
-
-static void send_ubx(struct ublox_neo6m *s, int64_t t, uint8_t cls, uint8_t id, const uint8_t *payload, uint16_t len) {
-  if (!(s->out_proto & PROTO_UBX)) return;
-  uint8_t frame[UBLOX_MAX_PAYLOAD + 8];
-  const size_t n = ubx_frame(cls, id, payload, len, frame);
-  nmea_tx_queue(&s->tx, t + UBLOX_REPLY_DELAY_NS, frame, n, 1);
-}
-
-static void acknowledge(struct ublox_neo6m *s, int64_t t, int ok) {
-  const uint8_t which[2] = {s->ubx_class, s->ubx_id};
-  send_ubx(s, t, UBX_CLASS_ACK, ok ? 0x01 : 0x00, which, 2);
-  if (ok) ++s->acks;
-  else ++s->naks;
-}
-
-static void port_payload(const struct ublox_neo6m *s, uint8_t *p) {
-  memset(p, 0, 20);
-  p[0] = UART1;
-  put32(p + 4, s->port_mode);
-  put32(p + 8, s->tx.baud);
-  put16(p + 12, s->in_proto);
-  put16(p + 14, s->out_proto);
-}
-
-/* Applies a port setting the way the module does: what is queued leaves at the old rate, the
- * acknowledgement too, and the new rate starts after it (our reading of the u-blox 6 spec; some
- * drivers do not wait for this ACK at all). */
-static int cfg_prt(struct ublox_neo6m *s, int64_t t, const uint8_t *p, uint16_t len) {
-  if (len == 0 || (len == 1 && p[0] == UART1)) {
-    uint8_t reply[20];
-    port_payload(s, reply);
-    send_ubx(s, t, UBX_CLASS_CFG, UBX_CFG_PRT, reply, 20);
-    return 1;
+/* A poll (empty payload) of MON-VER or of a NAV message; the NAV answer is the latest epoch's
+ * (before the first epoch, the receiver has none and stays silent). */
+static void poll(struct ublox_neo6m *s, int64_t t) {
+  if (s->ubx_len != 0) return;
+  if (s->ubx_class == UBX_CLASS_MON && s->ubx_id == MON_VER) {
+    uint8_t p[MON_VER_LEN];
+    memset(p, 0, sizeof p);
+    memcpy(p, mon_sw, sizeof mon_sw);
+    memcpy(p + 30, mon_hw, sizeof mon_hw);
+    memcpy(p + 40, mon_sw, sizeof mon_sw);
+    ublox_neo6m_reply(s, t, UBX_CLASS_MON, MON_VER, p, MON_VER_LEN);
+  } else if (s->ubx_class == UBX_CLASS_NAV && ubx_nav_index(s->ubx_id) >= 0 && s->talker.epoch_count > 0) {
+    send_nav(s, t + UBLOX_REPLY_DELAY_NS, (enum ubx_nav_msg)ubx_nav_index(s->ubx_id), 1);
   }
-  if (len != 20) return 0;
-  if (p[0] != UART1) return p[0] <= 4; /* DDC, UART2, USB, SPI exist on the chip; not modelled */
-  const uint32_t mode = u32_at(p + 4), baud = u32_at(p + 8);
-  /* Only 8N1 is modelled, as serial_byte carries only 8N1 frames. */
-  if ((mode & 0x3FC0u) != (MODE_8N1 & 0x3FC0u) && (mode & 0x3FC0u) != 0x0AC0u) return 0;
-  if (!baud_ok(baud)) return 0;
-  acknowledge(s, t, 1);
-  s->in_proto = u16_at(p + 12);
-  s->out_proto = u16_at(p + 14);
-  s->port_mode = mode;
-  s->tx.baud = baud;
-  return -1; /* already acknowledged */
-}
-
-static int cfg_msg(struct ublox_neo6m *s, int64_t t, const uint8_t *p, uint16_t len) {
-  if (len < 2 || p[0] != UBX_NMEA_CLASS || p[1] >= UBLOX_NMEA_IDS || p[1] == UBLOX_GRS || p[1] == UBLOX_GST)
-    return 0; /* only the NMEA messages this model prints; UBX NAV output is not modelled */
-  if (len == 2) {
-    uint8_t reply[8] = {p[0], p[1], 0, s->rate[p[1]], 0, 0, 0, 0};
-    send_ubx(s, t, UBX_CLASS_CFG, UBX_CFG_MSG, reply, 8);
-    return 1;
-  }
-  if (len == 3) s->rate[p[1]] = p[2]; /* the rate on the port the command came in on */
-  else if (len == 8) s->rate[p[1]] = p[3]; /* rates per port I2C, UART1, ... */
-  else return 0;
-  return 1;
-}
-
-static int cfg_rate(struct ublox_neo6m *s, int64_t t, const uint8_t *p, uint16_t len) {
-  if (len == 0) {
-    uint8_t reply[6];
-    put16(reply, (uint32_t)s->talker.period_ms);
-    put16(reply + 2, 1);
-    put16(reply + 4, s->time_ref);
-    send_ubx(s, t, UBX_CLASS_CFG, UBX_CFG_RATE, reply, 6);
-    return 1;
-  }
-  if (len != 6) return 0;
-  const uint16_t meas = u16_at(p), nav = u16_at(p + 2), ref = u16_at(p + 4);
-  /* 10 Hz is the fastest this model offers; u-blox 6 fixes navRate at 1 and knows timeRef 0/1. */
-  if (meas < 100 || nav != 1 || ref > 1) return 0;
-  gnss_talker_set_period(&s->talker, meas, t);
-  s->time_ref = ref;
-  return 1;
 }
 
 static void ubx_message(struct ublox_neo6m *s, int64_t t) {
-  if (!(s->in_proto & PROTO_UBX) || s->ubx_class != UBX_CLASS_CFG) return; /* only CFG is answered */
-  const uint8_t *p = s->payload;
-  const uint16_t len = s->ubx_len;
-  if (len > UBLOX_MAX_PAYLOAD) {
-    acknowledge(s, t, 0);
+  if (!(s->in_proto & UBX_PROTO_UBX)) return;
+  if (s->ubx_class != UBX_CLASS_CFG) { /* only CFG is acknowledged; other classes answer polls */
+    poll(s, t);
     return;
   }
-  int ok;
-  switch (s->ubx_id) {
-    case UBX_CFG_PRT: ok = cfg_prt(s, t, p, len); break;
-    case UBX_CFG_MSG: ok = cfg_msg(s, t, p, len); break;
-    case UBX_CFG_RATE: ok = cfg_rate(s, t, p, len); break;
-    case UBX_CFG_CFG: ok = len == 12 || len == 13; break; /* save/load: no battery-backed RAM here */
-    case UBX_CFG_NAV5: ok = len == 36; break;             /* accepted; the dynamic model is not modelled */
-    default: ok = 0; break;
-  }
-  if (ok >= 0) acknowledge(s, t, ok);
+  const int ok = ubx_cfg(s, t);
+  if (ok >= 0) ublox_neo6m_acknowledge(s, t, ok);
 }
 
 static void ubx_byte(struct ublox_neo6m *s, uint8_t c, int64_t t) {
@@ -261,6 +221,8 @@ static void ubx_byte(struct ublox_neo6m *s, uint8_t c, int64_t t) {
   if (s->ubx_state == 2 && c == UBX_SYNC2) s->ck_a = s->ck_b = 0;
 }
 
+/* ---- NMEA (PUBX) input ---- */
+
 static int parse_uint(const char *s, int base, unsigned long *v) {
   if (!*s) return 0;
   char *end;
@@ -281,8 +243,9 @@ static void pubx(struct ublox_neo6m *s, char *body) {
         s->rate[i] = (uint8_t)v; /* f[3] is the DDC port, f[4] UART1 */
   } else if (n >= 6 && strcmp(f[1], "41") == 0) {
     unsigned long port, in, outp, baud;
-    if (parse_uint(f[2], 10, &port) && port == UART1 && parse_uint(f[3], 16, &in) && parse_uint(f[4], 16, &outp) &&
-        parse_uint(f[5], 10, &baud) && baud <= 0xFFFFFFFFul && baud_ok((uint32_t)baud)) {
+    if (parse_uint(f[2], 10, &port) && port == UBX_UART1 && parse_uint(f[3], 16, &in) &&
+        parse_uint(f[4], 16, &outp) && parse_uint(f[5], 10, &baud) && baud <= 0xFFFFFFFFul &&
+        ubx_cfg_baud_ok((uint32_t)baud)) {
       s->in_proto = (uint16_t)(in & 0xFFFF);
       s->out_proto = (uint16_t)(outp & 0xFFFF);
       s->tx.baud = (uint32_t)baud;
@@ -292,7 +255,7 @@ static void pubx(struct ublox_neo6m *s, char *body) {
 
 static void nmea_byte(struct ublox_neo6m *s, uint8_t c) {
   char text[UBLOX_MAX_LINE];
-  if (gnss_line_byte(s->line, &s->line_len, UBLOX_MAX_LINE, (char)c, text) && (s->in_proto & PROTO_NMEA) &&
+  if (gnss_line_byte(s->line, &s->line_len, UBLOX_MAX_LINE, (char)c, text) && (s->in_proto & UBX_PROTO_NMEA) &&
       strncmp(text, "PUBX,", 5) == 0)
     pubx(s, text);
   /* Anything else ($PMTK..., standard sentences) the module ignores. */

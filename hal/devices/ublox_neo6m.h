@@ -1,6 +1,7 @@
 /* u-blox NEO-6M GPS module on its UART: power-up $GPTXT banner, then RMC VTG GGA GSA GSV GLL
- * every measurement epoch at the baud rate, and the UBX (CFG-PRT, CFG-RATE, CFG-MSG) and PUBX
- * configuration hobby firmware sends. MediaTek PMTK commands are ignored, as the module does. */
+ * every measurement epoch at the baud rate, the UBX NAV messages CFG-MSG turns on (from the same
+ * solution), MON-VER and NAV polls, and the UBX CFG and PUBX configuration drivers send (gpsd,
+ * flight controllers, hobby firmware). MediaTek PMTK commands are ignored, as the module does. */
 #ifndef SEAR_DEVICES_UBLOX_NEO6M_H
 #define SEAR_DEVICES_UBLOX_NEO6M_H
 
@@ -11,6 +12,7 @@
 #include "gnss_talker.h"
 #include "nmea.h"
 #include "serial_byte.h"
+#include "ubx_nav.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -23,7 +25,10 @@ extern "C" {
 #define UBLOX_BOOT_NS INT64_C(100000000)   /* banner after power-on: assumption */
 #define UBLOX_OUTPUT_DELAY_NS INT64_C(50000000) /* measurement epoch to first NMEA byte: assumption */
 #define UBLOX_REPLY_DELAY_NS INT64_C(5000000)   /* end of a command to its answer: assumption */
-#define UBLOX_MAX_PAYLOAD 64  /* longer UBX messages are consumed and ignored */
+#define UBLOX_MAX_PAYLOAD 64  /* longer UBX messages it is sent are consumed and NAKed */
+#define UBLOX_MAX_OUT_PAYLOAD UBX_NAV_MAX_PAYLOAD /* the longest it sends: NAV-SVINFO, 12 channels */
+#define UBLOX_NAV5_LEN 36
+#define UBLOX_SBAS_LEN 8
 #define UBLOX_MAX_LINE 100
 
 /* NMEA message ids of UBX class 0xF0 (u-blox 6 protocol spec, "NMEA Messages Overview"). */
@@ -44,6 +49,11 @@ struct ublox_neo6m {
   struct gnss_talker talker;         /* epoch schedule; its period_ms is CFG-RATE measRate */
   uint16_t time_ref;                 /* CFG-RATE timeRef: 0 UTC, 1 GPS (kept for polls) */
   uint8_t rate[UBLOX_NMEA_IDS];      /* an id is output every rate-th epoch; 0: off */
+  uint8_t nav_rate[UBX_NAV_MSGS];    /* the same for the UBX NAV messages (all off by default) */
+  struct ubx_epoch last;             /* the latest epoch's solution, for polls */
+  uint32_t ttff_ms;                  /* power-on to the first fix, once there was one */
+  uint8_t nav5[UBLOX_NAV5_LEN];      /* CFG-NAV5 as set (accepted; the error model ignores it) */
+  uint8_t sbas[UBLOX_SBAS_LEN];      /* CFG-SBAS as set */
   uint16_t in_proto, out_proto;      /* CFG-PRT masks: bit 0 UBX, bit 1 NMEA */
   uint32_t port_mode;
   /* UBX receiver */

@@ -48,9 +48,9 @@ struct Checker {
       } else if (pending[0] == 0xB5) {
         if (pending.size() < 8) return;
         const std::size_t len = pending[4] | static_cast<std::size_t>(pending[5]) << 8;
-        if (pending[1] != 0x62 || len > UBLOX_MAX_PAYLOAD) __builtin_trap();
+        if (pending[1] != 0x62 || len > UBLOX_MAX_OUT_PAYLOAD) __builtin_trap();
         if (pending.size() < len + 8) return;
-        std::uint8_t frame[UBLOX_MAX_PAYLOAD + 8];
+        std::uint8_t frame[UBLOX_MAX_OUT_PAYLOAD + 8];
         ubx_frame(pending[2], pending[3], pending.data() + 6, static_cast<std::uint16_t>(len), frame);
         if (std::memcmp(frame, pending.data(), len + 8) != 0) __builtin_trap();
         pending.erase(pending.begin(), pending.begin() + static_cast<std::ptrdiff_t>(len + 8));
