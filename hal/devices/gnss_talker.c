@@ -31,17 +31,31 @@ void gnss_talker_set_period(struct gnss_talker *g, int64_t period_ms, int64_t t_
 
 int gnss_talker_due(const struct gnss_talker *g, uint8_t rate) { return rate && g->epoch_count % rate == 0; }
 
-static int64_t next_event_ns(const struct gnss_talker *g) {
+static int64_t next_scheduled_ns(const struct gnss_talker *g) {
   return g->booted ? gnss_talker_epoch_ns(g, g->next_epoch_ms) : g->power_on_ns + g->boot_ns;
 }
 
+static int64_t next_event_ns(const struct gnss_talker *g) {
+  const int64_t t = next_scheduled_ns(g);
+  return g->output_pending && g->output_ns <= t ? g->output_ns : t;
+}
+
 static void run_event(struct gnss_talker *g, const struct gnss_talker_events *ev, void *talker) {
+  if (g->output_pending && g->output_ns <= next_scheduled_ns(g)) {
+    g->output_pending = 0;
+    g->output(talker);
+    return;
+  }
   if (!g->booted) {
     g->booted = 1;
     ev->boot(talker);
     return;
   }
   ev->epoch(talker);
+  if (g->output) {
+    g->output_pending = 1;
+    g->output_ns = gnss_talker_epoch_ns(g, g->next_epoch_ms) + g->output_delay_ns;
+  }
   ++g->epoch_count;
   g->next_epoch_ms += g->period_ms;
 }

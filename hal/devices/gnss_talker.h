@@ -23,6 +23,14 @@ struct gnss_talker {
   int64_t next_epoch_ms;  /* UTC of the next measurement */
   uint64_t epoch_count;   /* epochs run so far */
   int booted;             /* the power-up message has been queued */
+  /* Optional, set after init (NULL: none): runs output_delay_ns after each epoch. A talker that
+   * has it takes its measurement in the epoch event and queues the messages here, so that
+   * answers to commands that arrive in between leave first, as from a receiver still computing
+   * its solution. Called with the talker pointer the events get. */
+  void (*output)(void *talker);
+  int64_t output_delay_ns;
+  int output_pending;     /* an output event is still to run, at output_ns */
+  int64_t output_ns;
 };
 
 /* A talker's two events. The talker is passed back as the void pointer. */

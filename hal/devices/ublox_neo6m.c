@@ -47,6 +47,8 @@ size_t ubx_frame(uint8_t cls, uint8_t id, const uint8_t *payload, uint16_t len, 
   return (size_t)len + 8;
 }
 
+static void output(void *talker);
+
 void ublox_neo6m_defaults(struct ublox_neo6m_config *c) {
   c->rate_hz = 1.0;
   c->baud = UBLOX_DEFAULT_BAUD;
@@ -69,6 +71,8 @@ void ublox_neo6m_init(struct ublox_neo6m *s, const struct ublox_neo6m_config *c,
   s->out_proto = UBX_PROTO_UBX | UBX_PROTO_NMEA;
   s->port_mode = UBX_MODE_8N1;
   ubx_cfg_defaults(s);
+  s->talker.output = output;
+  s->talker.output_delay_ns = UBLOX_OUTPUT_DELAY_NS;
 }
 
 uint32_t ublox_neo6m_baud(const struct ublox_neo6m *s) { return s->tx.baud; }
@@ -99,9 +103,8 @@ void ublox_neo6m_acknowledge(struct ublox_neo6m *s, int64_t t, int ok) {
   else ++s->naks;
 }
 
-/* What the NAV messages say about the epoch at t whose solution is f. */
-static void fill_epoch(struct ublox_neo6m *s, const struct nmea_solution *f, int64_t t) {
-  struct ubx_epoch *e = &s->last;
+/* What the NAV messages will say about the epoch at t whose solution is f. */
+static void fill_epoch(struct ublox_neo6m *s, struct ubx_epoch *e, const struct nmea_solution *f, int64_t t) {
   const struct gnss_talker *g = &s->talker;
   e->fix = *f;
   ubx_gps_time(g->next_epoch_ms, &e->week, &e->itow_ms);
@@ -123,29 +126,39 @@ static void send_nav(struct ublox_neo6m *s, int64_t ready, enum ubx_nav_msg m, i
   send_ubx(s, ready, UBX_CLASS_NAV, ubx_nav_id(m), payload, n, force);
 }
 
+/* The measurement: the solution at the epoch, kept for its output event. */
 static void epoch(void *talker) {
   struct ublox_neo6m *s = talker;
   const struct gnss_talker *g = &s->talker;
   const int64_t t = gnss_talker_epoch_ns(g, g->next_epoch_ms);
   struct nmea_solution f;
   nmea_solve(&f, &s->error, s->src, t, g->power_on_ns, g->start_ns, g->next_epoch_ms, 0);
-  fill_epoch(s, &f, t);
-  const int64_t ready = t + UBLOX_OUTPUT_DELAY_NS;
-  /* UBX first, in message-id order, then the NMEA set, both from the one solution f. */
+  fill_epoch(s, &s->pending, &f, t);
+  s->pending_count = g->epoch_count;
+}
+
+static int due(const struct ublox_neo6m *s, uint8_t rate) { return rate && s->pending_count % rate == 0; }
+
+/* UBLOX_OUTPUT_DELAY_NS later: the epoch's UBX messages first, in message-id order, then its NMEA
+ * set, all from the one solution. */
+static void output(void *talker) {
+  struct ublox_neo6m *s = talker;
+  const int64_t ready = s->talker.output_ns;
+  s->last = s->pending;
+  s->has_output = 1;
+  const struct nmea_solution *f = &s->last.fix;
   for (int m = 0; m < UBX_NAV_MSGS; ++m)
-    if (gnss_talker_due(g, s->nav_rate[m])) send_nav(s, ready, (enum ubx_nav_msg)m, 0);
+    if (due(s, s->nav_rate[m])) send_nav(s, ready, (enum ubx_nav_msg)m, 0);
   char text[NMEA_MAX_SENTENCE + 1];
-#define DUE(id) gnss_talker_due(g, s->rate[id])
   /* The order a NEO-6M prints its default set in. */
-  if (DUE(UBLOX_RMC)) send_nmea(s, ready, text, nmea_rmc(text, sizeof text, &style, &f));
-  if (DUE(UBLOX_VTG)) send_nmea(s, ready, text, nmea_vtg(text, sizeof text, &style, &f));
-  if (DUE(UBLOX_GGA)) send_nmea(s, ready, text, nmea_gga(text, sizeof text, &style, &f));
-  if (DUE(UBLOX_GSA)) send_nmea(s, ready, text, nmea_gsa(text, sizeof text, &style, &f));
-  if (DUE(UBLOX_GSV))
-    for (int i = 0; i < nmea_gsv_count(&f); ++i) send_nmea(s, ready, text, nmea_gsv(text, sizeof text, &f, i));
-  if (DUE(UBLOX_GLL)) send_nmea(s, ready, text, nmea_gll(text, sizeof text, &style, &f));
-  if (DUE(UBLOX_ZDA)) send_nmea(s, ready, text, nmea_zda(text, sizeof text, &style, &f));
-#undef DUE
+  if (due(s, s->rate[UBLOX_RMC])) send_nmea(s, ready, text, nmea_rmc(text, sizeof text, &style, f));
+  if (due(s, s->rate[UBLOX_VTG])) send_nmea(s, ready, text, nmea_vtg(text, sizeof text, &style, f));
+  if (due(s, s->rate[UBLOX_GGA])) send_nmea(s, ready, text, nmea_gga(text, sizeof text, &style, f));
+  if (due(s, s->rate[UBLOX_GSA])) send_nmea(s, ready, text, nmea_gsa(text, sizeof text, &style, f));
+  if (due(s, s->rate[UBLOX_GSV]))
+    for (int i = 0; i < nmea_gsv_count(f); ++i) send_nmea(s, ready, text, nmea_gsv(text, sizeof text, f, i));
+  if (due(s, s->rate[UBLOX_GLL])) send_nmea(s, ready, text, nmea_gll(text, sizeof text, &style, f));
+  if (due(s, s->rate[UBLOX_ZDA])) send_nmea(s, ready, text, nmea_zda(text, sizeof text, &style, f));
 }
 
 static void boot(void *talker) {
@@ -177,7 +190,7 @@ static void poll(struct ublox_neo6m *s, int64_t t) {
     memcpy(p + 30, mon_hw, sizeof mon_hw);
     memcpy(p + 40, mon_sw, sizeof mon_sw);
     ublox_neo6m_reply(s, t, UBX_CLASS_MON, MON_VER, p, MON_VER_LEN);
-  } else if (s->ubx_class == UBX_CLASS_NAV && ubx_nav_index(s->ubx_id) >= 0 && s->talker.epoch_count > 0) {
+  } else if (s->ubx_class == UBX_CLASS_NAV && ubx_nav_index(s->ubx_id) >= 0 && s->has_output) {
     send_nav(s, t + UBLOX_REPLY_DELAY_NS, (enum ubx_nav_msg)ubx_nav_index(s->ubx_id), 1);
   }
 }

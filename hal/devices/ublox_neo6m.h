@@ -23,7 +23,7 @@ extern "C" {
  * in the port's buffer is dropped. The size is not documented; 1 kB is our assumption. */
 #define UBLOX_TX_BUFFER 1024u
 #define UBLOX_BOOT_NS INT64_C(100000000)   /* banner after power-on: assumption */
-#define UBLOX_OUTPUT_DELAY_NS INT64_C(50000000) /* measurement epoch to first NMEA byte: assumption */
+#define UBLOX_OUTPUT_DELAY_NS INT64_C(50000000) /* measurement epoch to its output: assumption */
 #define UBLOX_REPLY_DELAY_NS INT64_C(5000000)   /* end of a command to its answer: assumption */
 #define UBLOX_MAX_PAYLOAD 64  /* longer UBX messages it is sent are consumed and NAKed */
 #define UBLOX_MAX_OUT_PAYLOAD UBX_NAV_MAX_PAYLOAD /* the longest it sends: NAV-SVINFO, 12 channels */
@@ -50,7 +50,10 @@ struct ublox_neo6m {
   uint16_t time_ref;                 /* CFG-RATE timeRef: 0 UTC, 1 GPS (kept for polls) */
   uint8_t rate[UBLOX_NMEA_IDS];      /* an id is output every rate-th epoch; 0: off */
   uint8_t nav_rate[UBX_NAV_MSGS];    /* the same for the UBX NAV messages (all off by default) */
-  struct ubx_epoch last;             /* the latest epoch's solution, for polls */
+  struct ubx_epoch pending;          /* the latest measurement, until its output event */
+  uint64_t pending_count;            /* its number, for the message rates */
+  struct ubx_epoch last;             /* the latest epoch output, for polls */
+  int has_output;                    /* last holds an epoch */
   uint32_t ttff_ms;                  /* power-on to the first fix, once there was one */
   uint8_t nav5[UBLOX_NAV5_LEN];      /* CFG-NAV5 as set (accepted; the error model ignores it) */
   uint8_t sbas[UBLOX_SBAS_LEN];      /* CFG-SBAS as set */

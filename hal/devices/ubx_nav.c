@@ -100,7 +100,7 @@ int ubx_dops(const struct nmea_solution *f, struct ubx_dop_set *d) {
       for (int k = c; k < i; ++k) s -= l[i][k] * x[k];
       x[i] = s / l[i][i];
     }
-    for (int i = 0; i < 4; ++i) q[i] += x[i] * x[i];
+    for (int i = c; i < 4; ++i) q[c] += x[i] * x[i];
   }
   d->e = sqrt(q[0]);
   d->n = sqrt(q[1]);
