@@ -35,7 +35,9 @@
   X(uart_flush) X(spi_begin) X(spi_transfer) X(i2c_begin) X(i2c_write) X(i2c_read) X(i2c_write_reg) \
   X(i2c_read_regs) X(irq_attach_pin) X(irq_detach_pin) X(irq_timer_start) X(irq_timer_stop)         \
   X(irq_attach_uart_rx) X(irq_disable) X(irq_enable) X(can_begin) X(can_send) X(can_tx_pending)         \
-  X(can_available) X(can_receive) X(can_set_mask) X(can_set_filter) X(can_get_counters) X(can_attach_rx)
+  X(can_available) X(can_receive) X(can_set_mask) X(can_set_filter) X(can_get_counters) X(can_attach_rx) \
+  X(i2c_write_read) X(i2c_write_nostop) X(uart_tx_space) X(pulse_in) X(eeprom_read) X(eeprom_write) \
+  X(hal_refuse)
 
 #define SEAR_CALL_ENUM(name) SEAR_CALL_##name,
 enum sear_call { SEAR_HAL_CALLS(SEAR_CALL_ENUM) SEAR_CALL_COUNT };

@@ -8,7 +8,8 @@
 
 void adc_reference(uint8_t reference) {
   mcu_enter(SEAR_CALL_adc_reference);
-  if (reference > ADC_REF_1V1) mcu_fatal("adc_reference(%u): use ADC_REF_AVCC, ADC_REF_EXTERNAL or ADC_REF_1V1", reference);
+  if (reference > ADC_REF_2V56)
+    mcu_fatal("adc_reference(%u): use ADC_REF_AVCC, ADC_REF_EXTERNAL, ADC_REF_1V1 or ADC_REF_2V56", reference);
   sear_mcu.adc_reference = reference;
 }
 
@@ -24,6 +25,7 @@ uint16_t adc_read(uint8_t channel) {
   const struct sear_link *link = sear_mcu.link;
   const double vref = sear_mcu.adc_reference == ADC_REF_AVCC       ? link->avcc_v
                       : sear_mcu.adc_reference == ADC_REF_EXTERNAL ? link->aref_v
+                      : sear_mcu.adc_reference == ADC_REF_2V56     ? 2.56
                                                                    : 1.1;
   /* The sample-and-hold takes the input at the start of the conversion. */
   const double vin = sear_mcu.analog_v[channel];

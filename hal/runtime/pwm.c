@@ -32,8 +32,7 @@ void pwm_write(uint8_t pin, uint8_t duty) {
 void servo_write_us(uint8_t pin, uint16_t pulse_us) {
   const int64_t now = mcu_enter(SEAR_CALL_servo_write_us);
   mcu_check_pin(pin, "servo_write_us");
-  if (!board_has_servo(pin))
-    mcu_fatal("servo_write_us(%u): servo pulses need a 16-bit timer pin: 2, 3, 5, 6, 7, 8, 11, 12, 44, 45, 46", pin);
+  /* Any pin: Arduino's Servo library makes the pulses from a timer's compare interrupt. */
   if (pulse_us != 0 && (pulse_us < 400 || pulse_us > 2600))
     mcu_fatal("servo_write_us(%u, %u): a servo pulse is 400..2600 us (0 stops the pulses)", pin, pulse_us);
   make_output(pin, now);

@@ -11,3 +11,8 @@ void hal_init(void) {
   sear_mcu.irq_enabled = 1;
   mcu_reschedule();
 }
+
+void hal_refuse(const char *message) {
+  mcu_enter(SEAR_CALL_hal_refuse);
+  mcu_fatal("%s", message);
+}

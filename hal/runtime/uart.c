@@ -85,3 +85,19 @@ int16_t uart_read(uint8_t port) {
   u->rx_count--;
   return byte;
 }
+
+/* Bytes of the current burst still to leave at `now`: those whose stop bit ends later. */
+static uint64_t pending(const struct mcu_uart *u, int64_t now) {
+  if (!u->baud || u->last_end_ns <= now) return 0;
+  const uint64_t gone = (uint64_t)(now - u->anchor_ns) * u->baud / 10000000000ull;
+  return u->burst > gone ? u->burst - gone : 0;
+}
+
+uint8_t uart_tx_space(uint8_t port) {
+  const int64_t now = mcu_enter(SEAR_CALL_uart_tx_space);
+  const struct mcu_uart *u = port_of(port, "uart_tx_space");
+  /* The shift register and the data register take the first two of a burst. */
+  const uint64_t queued = pending(u, now);
+  const uint64_t in_ring = queued > 2 ? queued - 2 : 0;
+  return (uint8_t)(in_ring >= HAL_UART_BUFFER ? 0 : HAL_UART_BUFFER - in_ring);
+}

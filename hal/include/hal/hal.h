@@ -12,5 +12,7 @@
 #include <hal/i2c.h>
 #include <hal/irq.h>
 #include <hal/can.h>
+#include <hal/pulse.h>
+#include <hal/eeprom.h>
 
 #endif

@@ -12,11 +12,15 @@ extern "C" {
 #define IRQ_RISING 1
 #define IRQ_FALLING 2
 #define IRQ_CHANGE 3
+/* Level: the handler runs again and again as long as the pin stays LOW (external interrupt pins
+ * 2, 3 and 18..21 only, as INT0..INT5's sense control allows). */
+#define IRQ_LOW 4
 
 typedef void (*irq_handler)(void);
 typedef void (*irq_byte_handler)(uint8_t byte);
 
-/* Pins 2, 3, 18, 19, 20, 21 (external interrupts) and 10..15, 50..53, A8..A15 (pin change). */
+/* Pins 2, 3, 18, 19, 20, 21 (external interrupts) and 10..15, 50..53, A8..A15 (pin change);
+ * edge IRQ_RISING, IRQ_FALLING, IRQ_CHANGE or (external pins) IRQ_LOW. */
 void irq_attach_pin(uint8_t pin, uint8_t edge, irq_handler handler);
 void irq_detach_pin(uint8_t pin);
 

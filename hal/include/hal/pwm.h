@@ -1,5 +1,7 @@
 /* Pulse-width modulation on the timer pins (2..13 and 44..46 on a Mega) and hobby-servo pulses
- * (50 Hz frame) on the 16-bit timer pins 2, 3, 5, 6, 7, 8, 11, 12, 44, 45, 46. */
+ * (50 Hz frame): in the simulator on any pin, as Arduino's Servo library makes them from a
+ * timer's interrupt; hal/targets/avr makes them in hardware on the 16-bit timer pins 2, 3, 5, 6,
+ * 7, 8, 11, 12, 44, 45, 46 only. */
 #ifndef SEAR_HAL_PWM_H
 #define SEAR_HAL_PWM_H
 

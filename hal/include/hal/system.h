@@ -8,6 +8,10 @@ extern "C" {
 #endif
 
 void hal_init(void);
+/* Stops this MCU with `message`, reported as the HAL's own refusals are (the run names the MCU,
+ * the sim time and the last call): for layers on the HAL, such as hal/arduino, that meet
+ * something they cannot model. On the real chip it halts with interrupts off. */
+void hal_refuse(const char *message) __attribute__((noreturn));
 
 #ifdef __cplusplus
 }

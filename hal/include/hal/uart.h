@@ -19,6 +19,9 @@ int16_t uart_read(uint8_t port);      /* the next byte, or -1 when none is waiti
 void uart_write(uint8_t port, uint8_t byte);
 void uart_print(uint8_t port, const char *text);
 void uart_flush(uint8_t port);        /* waits until every written byte has left the wire */
+/* How many bytes uart_write() takes now without waiting: the 64-byte buffer's free places, after
+ * the byte being shifted out and the one in the data register (0..HAL_UART_BUFFER). */
+uint8_t uart_tx_space(uint8_t port);
 
 #ifdef __cplusplus
 }

@@ -13,7 +13,8 @@ void adc_reference(uint8_t reference)
     switch (reference) {
     case ADC_REF_AVCC: reference_bits = _BV(REFS0); break;
     case ADC_REF_EXTERNAL: reference_bits = 0; break;
-    case ADC_REF_1V1: reference_bits = _BV(REFS1); break; /* on the 2560; REFS1|REFS0 is 2.56 V */
+    case ADC_REF_1V1: reference_bits = _BV(REFS1); break; /* on the 2560 */
+    case ADC_REF_2V56: reference_bits = _BV(REFS1) | _BV(REFS0); break;
     default: break;
     }
 }

@@ -77,13 +77,15 @@ static int8_t begin_transfer(uint8_t address, uint8_t read)
     return I2C_OK;
 }
 
+/* A data byte the slave did not acknowledge (TW_MT_DATA_NACK) is told apart from a stuck bus. */
 static int8_t send_bytes(const uint8_t *data, uint8_t length)
 {
     for (uint8_t i = 0; i < length; i++) {
         TWDR = data[i];
         if (step(_BV(TWINT) | _BV(TWEN), TW_MT_DATA_ACK) != I2C_OK) {
+            int8_t refused = TW_STATUS == TW_MT_DATA_NACK ? I2C_NACK_DATA : I2C_NACK;
             stop();
-            return I2C_NACK;
+            return refused;
         }
     }
     return I2C_OK;
@@ -130,9 +132,29 @@ void i2c_begin(uint32_t clock_hz)
 
 int8_t i2c_write(uint8_t address, const uint8_t *data, uint8_t length)
 {
+    int8_t result = i2c_write_nostop(address, data, length);
+    if (result == I2C_OK)
+        stop();
+    return result;
+}
+
+/* No STOP: the next begin_transfer's START is a repeated start (TW_REP_START). */
+int8_t i2c_write_nostop(uint8_t address, const uint8_t *data, uint8_t length)
+{
     if (begin_transfer(address, 0) != I2C_OK)
         return I2C_NACK;
-    if (send_bytes(data, length) != I2C_OK)
+    return send_bytes(data, length);
+}
+
+int8_t i2c_write_read(uint8_t address, const uint8_t *out, uint8_t out_length, uint8_t *in, uint8_t in_length)
+{
+    uint8_t discard;
+    int8_t result = i2c_write_nostop(address, out, out_length);
+    if (result != I2C_OK)
+        return result;
+    if (begin_transfer(address, 1) != I2C_OK)
+        return I2C_NACK;
+    if (receive_bytes(in_length ? in : &discard, in_length ? in_length : 1) != I2C_OK)
         return I2C_NACK;
     stop();
     return I2C_OK;

@@ -26,10 +26,12 @@ static uint8_t int_line(uint8_t pin)
     }
 }
 
-/* ISCn1:ISCn0 (datasheet table "Interrupt Sense Control"): 01 any edge, 10 falling, 11 rising. */
+/* ISCn1:ISCn0 (datasheet table "Interrupt Sense Control"): 00 low level, 01 any edge, 10
+ * falling, 11 rising. */
 static uint8_t sense_bits(uint8_t edge)
 {
     switch (edge) {
+    case IRQ_LOW: return 0;
     case IRQ_RISING: return 3;
     case IRQ_FALLING: return 2;
     default: return 1;
@@ -148,7 +150,7 @@ static void attach_change(uint8_t line, uint8_t edge, irq_handler handler)
 
 void irq_attach_pin(uint8_t pin, uint8_t edge, irq_handler handler)
 {
-    if (edge < IRQ_RISING || edge > IRQ_CHANGE)
+    if (edge < IRQ_RISING || edge > IRQ_LOW)
         return;
     if (handler == NULL) {
         irq_detach_pin(pin);
@@ -160,7 +162,8 @@ void irq_attach_pin(uint8_t pin, uint8_t edge, irq_handler handler)
         return;
     }
     line = change_line(pin);
-    if (line != NO_LINE)
+    /* Pin-change interrupts have no level mode. */
+    if (line != NO_LINE && edge != IRQ_LOW)
         attach_change(line, edge, handler);
 }
 

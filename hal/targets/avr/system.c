@@ -23,3 +23,12 @@ void hal_init(void)
 
     sei();
 }
+
+/* Nothing to report to on the bench: the chip stops with interrupts off, as a sketch's halt does. */
+void hal_refuse(const char *message)
+{
+    (void)message;
+    cli();
+    for (;;) {
+    }
+}

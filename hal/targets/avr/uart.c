@@ -205,3 +205,12 @@ void irq_attach_uart_rx(uint8_t port, irq_byte_handler handler)
         uarts[port].rx_handler = handler;
     }
 }
+
+/* The ring's free places; the data register's byte has already left the ring. */
+uint8_t uart_tx_space(uint8_t port)
+{
+    if (port >= HAL_UART_COUNT)
+        return 0;
+    uart_state *s = &uarts[port];
+    return (uint8_t)(HAL_UART_BUFFER - (uint8_t)(s->tx_head - s->tx_tail));
+}
