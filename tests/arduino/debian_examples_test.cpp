@@ -1,0 +1,102 @@
+// Debian's Arduino examples (arduino-core-avr's EEPROM sketches), unchanged: built for the host layer
+// and run by `sear`, and built for the ATmega2560 with the genuine core and run on the AVR engine;
+// what they print checked against what each example must do.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "firmware_run.hpp"
+
+using namespace sear::test;
+
+namespace {
+
+// eeprom_read prints a line every 500 ms (three by 1.2 s); the others are done in 0.3 s (about 100
+// bytes at 9600 baud).
+std::string project(const std::string& firmware_attribute, const std::string& engine = "native", double duration_s = 0.3) {
+  return rover_project("    <mcu name=\"main\" engine=\"" + engine + "\">\n      <firmware " + firmware_attribute +
+                           "/>\n    </mcu>\n",
+                       "", duration_s);
+}
+
+// The console's lines without their time stamps.
+std::vector<std::string> console(const SearRun& run) {
+  std::vector<std::string> out;
+  for (const auto& line : lines_of(run.file("rover.main.console.log"))) out.push_back(line.substr(line.find(' ') + 1));
+  return out;
+}
+
+// A wrapper the project names as the executable: the simulator gives a firmware a fixed
+// environment, and SEAR_EEPROM_FILE is how the HAL keeps an MCU's EEPROM between runs.
+std::string with_eeprom_file(const TempDir& dir, const std::string& name, const std::string& executable) {
+  const auto wrapper = dir.path() / (name + ".sh");
+  std::ofstream(wrapper) << "#!/bin/sh\nSEAR_EEPROM_FILE=" << (dir.path() / "main.eeprom").string() << " exec "
+                         << executable << "\n";
+  std::filesystem::permissions(wrapper, std::filesystem::perms::owner_all);
+  return wrapper.string();
+}
+
+// eeprom_read prints "address<TAB>value" every 500 ms from address 0: an erased chip reads 255.
+TEST(DebianEepromRead, AnErasedChipReads255AtEveryAddress) {
+  TempDir dir;
+  const SearRun run = run_sear(dir, project(std::string("executable=\"") + EEPROM_READ + "\"", "native", 1.2));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::vector<std::string> want{"0\t255", "1\t255", "2\t255"};
+  const auto got = console(run);
+  ASSERT_GE(got.size(), want.size()) << run.file("rover.main.console.log");
+  for (std::size_t i = 0; i < want.size(); ++i) EXPECT_EQ(got[i], want[i]);
+}
+
+// eeprom_put writes 123.456f and {3.14159f, 65, "Working!"}; eeprom_get, run afterwards on the same
+// MCU's persisted EEPROM, reads them back as its comments say. Print gives floats 2 decimals unless
+// told 3.
+TEST(DebianEepromPutGet, WhatOneRunPutsTheNextGetsWhenTheEepromPersists) {
+  TempDir dir;
+  const SearRun put = run_sear(dir, project("executable=\"" + with_eeprom_file(dir, "put", EEPROM_PUT) + "\""));
+  ASSERT_EQ(put.exit_code, 0) << put.err;
+  EXPECT_EQ(console(put).at(0), "Written float data type!");
+  const SearRun get = run_sear(dir, project("executable=\"" + with_eeprom_file(dir, "get", EEPROM_GET) + "\""));
+  ASSERT_EQ(get.exit_code, 0) << get.err;
+  const std::vector<std::string> want{"Read float from EEPROM: 123.456", "Read custom object from EEPROM: ", "3.14", "65",
+                                      "Working!"};
+  EXPECT_EQ(console(get), want) << get.file("rover.main.console.log");
+}
+
+// Without persistence each run starts erased: the float's four 0xFF bytes are a NaN, and the
+// structure's byte 255.
+TEST(DebianEepromPutGet, WithoutPersistenceTheNextRunStartsErased) {
+  TempDir dir;
+  const SearRun get = run_sear(dir, project(std::string("executable=\"") + EEPROM_GET + "\""));
+  ASSERT_EQ(get.exit_code, 0) << get.err;
+  const auto got = console(get);
+  ASSERT_GE(got.size(), 4u);
+  EXPECT_EQ(got[0], "Read float from EEPROM: nan");
+  EXPECT_EQ(got[2], "nan");
+  EXPECT_EQ(got[3], "255");
+}
+
+// The same sketches built for the ATmega2560 with Debian's genuine core, on the AVR engine: the
+// lines that do not depend on memory past the EEPROM's erased bytes match the host build's.
+TEST(DebianExamplesOnTheChip, TheGenuineCoreBuildPrintsWhatTheHostBuildPrints) {
+  TempDir dir;
+  const SearRun chip = run_sear(dir, project(std::string("elf=\"") + EEPROM_READ_AVR + "\"", "avr", 1.2));
+  ASSERT_EQ(chip.exit_code, 0) << chip.err;
+  TempDir dir2;
+  const SearRun host = run_sear(dir2, project(std::string("executable=\"") + EEPROM_READ + "\"", "native", 1.2));
+  ASSERT_EQ(host.exit_code, 0) << host.err;
+  EXPECT_EQ(console(chip), console(host));
+  ASSERT_GE(console(chip).size(), 3u);
+
+  TempDir dir3;
+  const SearRun chip_get = run_sear(dir3, project(std::string("elf=\"") + EEPROM_GET_AVR + "\"", "avr"));
+  ASSERT_EQ(chip_get.exit_code, 0) << chip_get.err;
+  const auto got = console(chip_get);
+  ASSERT_GE(got.size(), 4u);
+  EXPECT_EQ(got[0], "Read float from EEPROM: nan");
+  EXPECT_EQ(got[3], "255");
+}
+
+}  // namespace
