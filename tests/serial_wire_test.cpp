@@ -4,6 +4,7 @@
 // written in Python for this test (not part of the repository); see the report.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -230,6 +231,120 @@ TEST(SerialWire, BatchesDecodeLikeOneStreamAndAPortNotBegunGetsNothing) {
     EXPECT_EQ(g.value, sent[55 + i].value) << i;
     EXPECT_EQ(g.end_ns, sent[55 + i].end_ns) << i;
   }
+}
+
+// A sender that changes rate mid-stream, as an LMS2xx does after `20 42`: an 8-byte burst at
+// `from`, both ends switch to `to` where its last stop bit ends, and after `gap_ns` another burst at
+// `to`. The sender gives each byte only once its stop bit has ended (the devices' transmit
+// contract), quantum by quantum, and announces its rate as the bridge does; the receiver's rate
+// change is known before the wire is read past it.
+struct RateChange {
+  uint32_t from, to, rx_after;  // rx_after: the receiver's rate from the switch on
+  int64_t gap_ns, quantum_ns;
+};
+
+std::vector<serial_byte> two_bursts(const RateChange& c, int64_t* switch_ns) {
+  std::vector<serial_byte> sent;
+  int64_t end = 3000000 + 123457;  // an odd phase against every quantum below
+  for (int i = 0; i < 8; ++i) sent.push_back(byte_at(end += serial_frame_ns(c.from), c.from, static_cast<uint8_t>(0x06 + 0x31 * i)));
+  *switch_ns = end;
+  end += c.gap_ns;
+  // 06 02 first, as the reply that lost them; then values with every bit pattern kind.
+  const uint8_t second[8] = {0x06, 0x02, 0x80, 0x03, 0x00, 0xFF, 0x55, 0xAA};
+  for (uint8_t v : second) sent.push_back(byte_at(end += serial_frame_ns(c.to), c.to, v));
+  return sent;
+}
+
+std::vector<serial_byte> stream_through(const RateChange& c, const std::vector<serial_byte>& sent, int64_t switch_ns,
+                                        uint64_t* framing_errors) {
+  SerialWire wire(false);
+  wire.set_receiver_baud(c.from, 0);
+  wire.set_sender_baud(c.from, 0);
+  std::vector<serial_byte> got;
+  size_t next = 0;
+  bool switched = false;
+  const int64_t last = sent.back().end_ns + 4 * serial_frame_ns(std::min(c.to, c.rx_after)) + 2 * c.quantum_ns;
+  for (int64_t q_end = c.quantum_ns; q_end <= last; q_end += c.quantum_ns) {
+    while (next < sent.size() && sent[next].end_ns < q_end) wire.send(sent[next++]);
+    if (!switched && switch_ns < q_end) {
+      wire.set_sender_baud(c.to, switch_ns);
+      wire.set_receiver_baud(c.rx_after, switch_ns);
+      switched = true;
+    }
+    const size_t before = got.size();
+    wire.receive_until(q_end, got);
+    for (size_t i = before; i < got.size(); ++i) EXPECT_LT(got[i].end_ns, q_end);
+  }
+  *framing_errors = wire.framing_errors();
+  return got;
+}
+
+// The same line read with all of it known at once: what a receiver at those rates decodes.
+std::vector<serial_byte> read_whole(const RateChange& c, const std::vector<serial_byte>& sent, int64_t switch_ns) {
+  SerialWire wire(false);
+  wire.set_receiver_baud(c.from, 0);
+  wire.set_receiver_baud(c.rx_after, switch_ns);
+  for (const serial_byte& b : sent) wire.send(b);
+  return receive_all(wire, sent.back().end_ns + 40 * serial_frame_ns(std::min(c.to, c.rx_after)));
+}
+
+constexpr uint32_t kLmsRates[] = {9600, 19200, 38400, 500000};
+
+// Both ends change rate together, each way between the LMS2xx's four rates: every byte of both
+// bursts comes through byte-exact, at its own time, whatever the frame length against the
+// quantum (a 9600 frame is 1.04 ms, longer than the 1 ms and 0.25 ms quanta) and wherever the
+// second burst starts in a quantum. Before the fix a burst after a change to a slower rate lost
+// its first frames: the wire judged the line known up to one frame at the old, faster rate before
+// the quantum's end, and hunted past the start bit of a slow frame not yet sent.
+TEST(SerialWire, RateChangesBothWaysPassBytesThroughExactly) {
+  for (uint32_t from : kLmsRates)
+    for (uint32_t to : kLmsRates) {
+      if (from == to) continue;
+      for (int64_t quantum : {INT64_C(250000), INT64_C(1000000), INT64_C(5000000)})
+        for (int64_t gap : {INT64_C(0), INT64_C(1000000), INT64_C(2000000) + 777, INT64_C(6100003)}) {
+          const RateChange c{from, to, to, gap, quantum};
+          int64_t switch_ns = 0;
+          const std::vector<serial_byte> sent = two_bursts(c, &switch_ns);
+          uint64_t framing = 0;
+          const std::vector<serial_byte> got = stream_through(c, sent, switch_ns, &framing);
+          const std::string where = std::to_string(from) + "->" + std::to_string(to) + " q " + std::to_string(quantum) +
+                                    " gap " + std::to_string(gap);
+          ASSERT_EQ(got.size(), sent.size()) << where;
+          for (size_t i = 0; i < sent.size(); ++i) {
+            EXPECT_EQ(got[i].value, sent[i].value) << where << " byte " << i;
+            EXPECT_EQ(got[i].end_ns, sent[i].end_ns) << where << " byte " << i;
+            EXPECT_EQ(got[i].baud, sent[i].baud) << where << " byte " << i;
+          }
+          EXPECT_EQ(framing, 0u) << where;
+        }
+    }
+}
+
+// When the ends disagree after the change (the receiver stays, or takes a third rate), the
+// quantum-by-quantum reading still gives exactly what the whole line gives a real receiver:
+// garbage, but the same garbage at the same times, for every pair of rates and every quantum.
+TEST(SerialWire, MismatchedRateChangesDecodeLikeTheWholeLine) {
+  for (uint32_t from : kLmsRates)
+    for (uint32_t to : kLmsRates)
+      for (uint32_t rx : kLmsRates) {
+        if (from == to || rx == to) continue;
+        for (int64_t quantum : {INT64_C(250000), INT64_C(1000000)}) {
+          const RateChange c{from, to, rx, INT64_C(1500000), quantum};
+          int64_t switch_ns = 0;
+          const std::vector<serial_byte> sent = two_bursts(c, &switch_ns);
+          uint64_t framing = 0;
+          const std::vector<serial_byte> got = stream_through(c, sent, switch_ns, &framing);
+          const std::vector<serial_byte> whole = read_whole(c, sent, switch_ns);
+          const std::string where = std::to_string(from) + "->" + std::to_string(to) + " rx " + std::to_string(rx) +
+                                    " q " + std::to_string(quantum);
+          ASSERT_EQ(got.size(), whole.size()) << where;
+          ASSERT_GE(got.size(), 8u) << where;  // the first burst, at least, is read
+          for (size_t i = 0; i < whole.size(); ++i) {
+            EXPECT_EQ(got[i].value, whole[i].value) << where << " byte " << i;
+            EXPECT_EQ(got[i].end_ns, whole[i].end_ns) << where << " byte " << i;
+          }
+        }
+      }
 }
 
 }  // namespace

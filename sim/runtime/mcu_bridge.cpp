@@ -39,6 +39,7 @@ McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id
         serial_.push_back({device, i, static_cast<std::uint8_t>(d.wires[w]), host_side, SerialWire(false),
                            SerialWire(!host_side && device->inverted()), device->baud(), 0});
         serial_.back().to_device.set_receiver_baud(device->baud(), 0);
+        serial_.back().to_mcu.set_sender_baud(device->baud(), 0);  // a device sends at the rate it listens at
       }
     }
   }
@@ -111,6 +112,7 @@ void McuBridge::note_device_baud(SerialLink& s, std::int64_t now_ns) {
   // A device that cannot say when learnt it now; changes go to the line in time order.
   s.baud_since_ns = std::max(s.baud_since_ns, s.device->baud_since_ns() > 0 ? s.device->baud_since_ns() : now_ns);
   s.to_device.set_receiver_baud(s.device_baud, s.baud_since_ns);
+  s.to_mcu.set_sender_baud(s.device_baud, s.baud_since_ns);
 }
 
 void McuBridge::take_from_host(SerialLink& s, std::int64_t t0, std::int64_t t1) {

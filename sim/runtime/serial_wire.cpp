@@ -51,13 +51,33 @@ void SerialWire::send(const serial_byte& byte) {
   last_sender_baud_ = byte.baud;
 }
 
-void SerialWire::set_receiver_baud(uint32_t baud, int64_t from_ns) {
-  if (!bauds_.empty() && bauds_.back().from_ns >= from_ns) {
-    // A later change at the same time replaces the earlier; out-of-order ones are clamped so the
-    // list stays sorted (the contract asks for time order).
-    while (!bauds_.empty() && bauds_.back().from_ns >= from_ns) bauds_.pop_back();
+void SerialWire::set_baud(std::vector<BaudChange>& list, uint32_t baud, int64_t from_ns) {
+  // A later change at the same time replaces the earlier; out-of-order ones are clamped so the
+  // list stays sorted (the contract asks for time order).
+  while (!list.empty() && list.back().from_ns >= from_ns) list.pop_back();
+  list.push_back(BaudChange{from_ns, baud});
+}
+
+void SerialWire::set_receiver_baud(uint32_t baud, int64_t from_ns) { set_baud(bauds_, baud, from_ns); }
+
+void SerialWire::set_sender_baud(uint32_t baud, int64_t from_ns) { set_baud(sender_bauds_, baud, from_ns); }
+
+int64_t SerialWire::known_until(int64_t until_ns) const {
+  if (sender_bauds_.empty()) {
+    if (last_sender_baud_ == 0) return std::numeric_limits<int64_t>::min();  // nothing sent, nothing known
+    return std::max(last_end_ns_, until_ns - serial_frame_ns(last_sender_baud_));
   }
-  bauds_.push_back(BaudChange{from_ns, baud});
+  // A frame not yet sent starts after the last one sent ended, at the rate in force at its start:
+  // any rate in force between then and until_ns. The slowest gives the longest frame.
+  int64_t longest = 0;
+  for (size_t i = 0; i < sender_bauds_.size(); ++i) {
+    const BaudChange& c = sender_bauds_[i];
+    if (c.from_ns >= until_ns) break;
+    const bool over_before_last_end = i + 1 < sender_bauds_.size() && sender_bauds_[i + 1].from_ns <= last_end_ns_;
+    if (over_before_last_end || c.baud == 0) continue;
+    longest = std::max(longest, serial_frame_ns(c.baud));
+  }
+  return std::max(last_end_ns_, until_ns - longest);
 }
 
 uint32_t SerialWire::baud_at(int64_t t_ns) const {
@@ -158,15 +178,13 @@ void SerialWire::decode(int64_t known_until_ns) {
 
 void SerialWire::forget_before(int64_t t_ns) {
   while (!frames_.empty() && frames_.front().end_ns <= t_ns) frames_.pop_front();
+  // The sender's rates before its last frame ended no longer bound anything still to come.
+  while (sender_bauds_.size() > 1 && sender_bauds_[1].from_ns <= last_end_ns_) sender_bauds_.erase(sender_bauds_.begin());
 }
 
 void SerialWire::receive_until(int64_t until_ns, std::vector<serial_byte>& out) {
-  if (last_sender_baud_ != 0) {
-    // A frame ending at or after until_ns may not have been sent yet; it started no earlier than
-    // one frame before until_ns, and no earlier than the last frame we hold ended.
-    const int64_t known = std::max(last_end_ns_, until_ns - serial_frame_ns(last_sender_baud_));
-    decode(known);
-  }
+  const int64_t known = known_until(until_ns);
+  if (known != std::numeric_limits<int64_t>::min()) decode(known);
   while (!ready_.empty() && ready_.front().end_ns < until_ns) {
     out.push_back(ready_.front());
     ready_.pop_front();

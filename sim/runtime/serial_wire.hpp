@@ -26,9 +26,13 @@ namespace sear {
 // of its stop bit counted from the true edge, so equal rates give the sender's own times.
 //
 // Streaming contract: send() frames in time order; receive_until(until) assumes every frame that
-// ends before `until` has been sent. A frame still on the line at `until` is unknown, so the line
-// is known up to max(last frame end, until - one frame at the sender's baud); a decoded byte
-// whose samples reach past that waits for the next call and keeps its own (earlier) time.
+// ends before `until` has been sent. A frame still on the line at `until` is unknown: it started
+// no earlier than one of its own frames before `until`, so the line is known up to
+// max(last frame end, until - one frame at the slowest rate the sender may have used since).
+// A decoded byte whose samples reach past that waits for the next call and keeps its own
+// (earlier) time. The sender's rate is what set_sender_baud announced; without announcements,
+// the rate of its last frame (which is wrong right after it changed to a slower rate: its next,
+// longer frame may have started before the horizon that rate gives).
 class SerialWire {
  public:
   explicit SerialWire(bool inverted);
@@ -38,6 +42,9 @@ class SerialWire {
   // nothing). Changes come in time order, before receive_until passes their time; a frame is
   // read at the baud in force when its start edge is seen.
   void set_receiver_baud(uint32_t baud, int64_t from_ns);
+  // From from_ns on the sender sends at `baud` (0: it sends nothing). Changes come in time
+  // order, before receive_until passes their time.
+  void set_sender_baud(uint32_t baud, int64_t from_ns);
   // Appends the decoded bytes whose stop bit ends before until_ns, stamped with that end as the
   // receiver sees it and carrying the receiver's baud.
   void receive_until(int64_t until_ns, std::vector<serial_byte>& out);
@@ -57,7 +64,10 @@ class SerialWire {
     uint32_t baud;
   };
 
+  static void set_baud(std::vector<BaudChange>& list, uint32_t baud, int64_t from_ns);
   uint32_t baud_at(int64_t t_ns) const;
+  // Up to where the line is known when every frame ending before until_ns has been sent.
+  int64_t known_until(int64_t until_ns) const;
   int level_at(int64_t t_ns) const;
   // First high-to-low transition at or after from_ns and before limit_ns, or INT64_MAX.
   int64_t next_falling_edge(int64_t from_ns, int64_t limit_ns) const;
@@ -67,7 +77,8 @@ class SerialWire {
 
   bool inverted_;
   std::deque<Frame> frames_;
-  std::vector<BaudChange> bauds_;
+  std::vector<BaudChange> bauds_;         // the receiver's
+  std::vector<BaudChange> sender_bauds_;  // the sender's, as announced; the first still in force at last_end_ns_ on
   std::deque<serial_byte> ready_;  // decoded, waiting for their end to pass
   int64_t scan_from_ns_ = INT64_MIN;  // where the receiver starts hunting for a start edge
   int64_t last_end_ns_ = INT64_MIN;
