@@ -443,6 +443,117 @@ TEST(Lms2xxProtocol, BaudChangeIsAnsweredAtTheOldRateThenTakesEffect) {
   }
 }
 
+// The status reply (0xB1) carries the current rate's code where sicktoolbox reads the baud word
+// (payload bytes 116-117, low byte first): the listing's 0x8019 at 38400, and the same reload
+// arithmetic (0x8000 | (16 MHz / (16 x rate) - 1)) at the others; the permanent-rate flag (119)
+// is 0, as a 0x20 change holds only until power-off.
+TEST(Lms2xxProtocol, StatusCarriesTheCurrentRatesBaudWord) {
+  Host h(Host::quick_config());
+  h.power_up();
+  EXPECT_EQ(word_at(h.transact({0x31}, 9600).payload(), 116), 0x8067);
+  const struct {
+    uint8_t code;
+    uint32_t baud;
+    uint16_t word;
+  } rates[] = {{0x40, 38400, 0x8019}, {0x41, 19200, 0x8033}, {0x48, 500000, 0x8001}, {0x42, 9600, 0x8067}};
+  uint32_t old = 9600;
+  for (const auto& r : rates) {
+    h.transact({0x20, r.code}, old);
+    const auto p = h.transact({0x31}, r.baud).payload();
+    ASSERT_EQ(p.size(), 1u + LMS2XX_STATUS_BYTES + 1u);
+    EXPECT_EQ(word_at(p, 116), r.word) << r.baud;
+    EXPECT_EQ(word_at(p, 116), 0x8000 + (16000000 / (16 * r.baud) - 1)) << r.baud;
+    EXPECT_EQ(p[119], 0) << r.baud;
+    old = r.baud;
+  }
+}
+
+// Polled scans (0x30 01 in mode 0x25, as sicktoolbox's GetSickScan and Player poll) are each a
+// scan not sent before: a host that polls as fast as the line allows gets the mirror's scan rate,
+// 75 Hz over the sweeps one scan interlaces: 75 at 1 degree, 37.5 at 0.5, 18.75 at 100 deg /
+// 0.25 deg (the listing's scan times 13.33 / 26.67 / 53.33 ms), never the same scan twice. At
+// 500 kBd the line is never the limit: 401 values are 812 bytes, 16.2 ms.
+TEST(Lms2xxScan, PollingGetsEachScanOnceAtTheMirrorsRate) {
+  const struct {
+    uint16_t angle, res_cdeg;
+    double scans_per_s;
+  } variants[] = {{180, 100, 75.0}, {180, 50, 37.5}, {100, 25, 18.75}};
+  for (const auto& v : variants) {
+    lms2xx_config c = Host::quick_config();
+    c.units = LMS2XX_UNITS_MM;
+    c.scan_angle_deg = v.angle;
+    c.resolution_cdeg = v.res_cdeg;
+    Host h(c);
+    h.scene.walls = {{2.0, 90 * kDeg}};
+    h.scene.sweep_coded = true;
+    h.power_up();
+    h.transact({0x20, 0x48}, 9600);
+    std::vector<Item> scans;
+    // Poll again as soon as each answer is complete, for 2 s.
+    const int64_t t_end = h.now + 2 * kS;
+    h.take();
+    while (h.now < t_end) {
+      h.send({0x30, 0x01}, 500000);
+      std::vector<Item> got;
+      while (got.empty() || got.back().code() != 0xB0) {
+        h.run_for(kMs / 4);  // the host looks every 0.25 ms
+        for (const Item& it : h.take()) got.push_back(it);
+        ASSERT_LT(got.size(), 3u);
+      }
+      ASSERT_EQ(got.size(), 2u);
+      EXPECT_EQ(got[0].code(), LMS2XX_ACK);
+      scans.push_back(got[1]);
+    }
+    // The first polls may find a complete scan not yet sent and get it at once; from the third
+    // on, each waits for its scan's last sweep to end, so answers start a scan period apart,
+    // exact to the 1 ns rounding of the sweep grid.
+    ASSERT_GE(scans.size(), 10u);
+    const double period_ns = 1e9 / v.scans_per_s;
+    for (size_t i = 3; i < scans.size(); ++i)
+      EXPECT_NEAR(double(scans[i].start_ns() - scans[i - 1].start_ns()), period_ns, 1.0) << v.res_cdeg << " " << i;
+    const double span_s = double(scans.back().start_ns() - scans[2].start_ns()) / 1e9;
+    EXPECT_NEAR(double(scans.size() - 3) / span_s, v.scans_per_s, v.scans_per_s * 1e-6) << v.res_cdeg;
+    // The value straight ahead tells the sweep it came from: consecutive answers are whole scans
+    // one after the other (sweeps_per_scan apart), none repeated, none skipped.
+    const size_t ahead = (v.angle == 180 ? 90u : 50u) * 100u / v.res_cdeg;
+    const int64_t per_scan = 100 / v.res_cdeg;
+    for (size_t i = 1; i < scans.size(); ++i)
+      EXPECT_EQ((values_of(scans[i])[ahead] - values_of(scans[i - 1])[ahead] + 1000) % 1000, per_scan) << i;
+  }
+}
+
+// A stop request (0x20 0x25) sent while a scan telegram is on the line waits for it: the LMS
+// never breaks a telegram, so the ACK starts at the telegram's last stop bit and the 0xA0 answer
+// follows; then no more scans. At 9600 a 180 deg / 0.5 deg telegram (732 bytes) lasts 762.5 ms,
+// so the wait reaches that minus the request's own length (docs/lms2xx.md lists every rate).
+TEST(Lms2xxProtocol, AStopRequestWaitsBehindTheTelegramOnTheLine) {
+  Host h(Host::quick_config());
+  h.scene.walls = {{2.0, 90 * kDeg}};
+  h.power_up();
+  h.take();
+  h.send({0x20, 0x24}, 9600);
+  h.run_for(50 * kMs);
+  std::vector<Item> items = h.take();
+  ASSERT_EQ(items.size(), 2u);  // ACK and A0; the first scan is on the line now
+  // Send the stop 100 ms into a telegram that started after the A0.
+  h.run_for(100 * kMs);
+  const int64_t request_end = h.send({0x20, 0x25}, 9600);
+  h.run_for(2 * kS);
+  items = h.take();
+  ASSERT_EQ(items.size(), 3u);  // the scan under way, ACK, A0 - and nothing after
+  EXPECT_EQ(items[0].code(), 0xB0);
+  EXPECT_EQ(items[0].bytes.size(), 732u);
+  EXPECT_LT(items[0].start_ns(), request_end);
+  EXPECT_EQ(items[1].code(), LMS2XX_ACK);
+  EXPECT_EQ(items[1].start_ns(), items[0].last_end_ns);  // right behind it, not 1 ms after the request
+  EXPECT_EQ(items[2].bytes, kModeChangeOk);
+  const double telegram_ms = 732 * 10 / 9.6;  // 762.5 ms
+  EXPECT_NEAR(double(items[0].last_end_ns - items[0].start_ns()) / 1e6, telegram_ms, 1e-3);
+  // The wait: what was left of the telegram when the request had arrived.
+  EXPECT_GT(items[1].start_ns() - request_end, 500 * kMs);
+  EXPECT_LT(items[1].start_ns() - request_end, static_cast<int64_t>(telegram_ms * 1e6));
+}
+
 // sicktoolbox's ResetSick sends 0x10, waits for 0x91, switches its terminal to 9600 and waits
 // for the 0x90 power-on message: the reply to a reset breaks the "request + 0x80" rule.
 TEST(Lms2xxProtocol, ResetRebootsAtThePowerUpRate) {

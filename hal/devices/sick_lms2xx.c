@@ -31,6 +31,8 @@ static const uint8_t install_password[8] = {'S', 'I', 'C', 'K', '_', 'L', 'M', '
 #define ST_MEASURING_MODE 102
 #define ST_ANGLE 107
 #define ST_RESOLUTION 109
+#define ST_BAUD 116           /* word: the current rate's code, below */
+#define ST_PERMANENT_BAUD 119 /* 0: back to 9600 at power-on */
 #define ST_UNITS 122
 #define ST_LASER_ON 123
 
@@ -160,6 +162,12 @@ static int64_t next_scan_end(const struct lms2xx *s, int64_t after) {
   const int64_t k = sweeps_per_scan(s);
   if (after < -1) after = -1;
   return ((after + 1) / k + 1) * k - 1;
+}
+
+/* The scan a 0x30 request gets at t: the newest complete one (a single sweep when partial scans
+ * are streamed). */
+static int64_t newest_polled_scan(const struct lms2xx *s, int64_t t) {
+  return s->mode == LMS2XX_MODE_STREAM_PARTIAL ? last_finished_sweep(s, t) : newest_scan_end(s, t);
 }
 
 static unsigned value_bits(uint8_t measuring_mode) {
@@ -298,6 +306,16 @@ static void mode_change(struct lms2xx *s, const uint8_t *d, size_t n, int64_t du
   }
 }
 
+uint16_t lms2xx_status_baud_code(uint32_t baud) {
+  switch (baud) {
+    case 9600: return LMS2XX_STATUS_BAUD_9600;
+    case 19200: return LMS2XX_STATUS_BAUD_19200;
+    case 38400: return LMS2XX_STATUS_BAUD_38400;
+    case 500000: return LMS2XX_STATUS_BAUD_500000;
+    default: return 0;
+  }
+}
+
 static void status_reply(struct lms2xx *s, int64_t due) {
   uint8_t st[LMS2XX_STATUS_BYTES + 1];
   memset(st, 0, sizeof st);
@@ -309,6 +327,8 @@ static void status_reply(struct lms2xx *s, int64_t due) {
   st[ST_MEASURING_MODE] = s->cfg[CFG_MEASURING_MODE];
   put16(st + ST_ANGLE, s->scan_angle_deg);
   put16(st + ST_RESOLUTION, s->resolution_cdeg);
+  put16(st + ST_BAUD, lms2xx_status_baud_code(s->baud));
+  st[ST_PERMANENT_BAUD] = 0; /* a 0x20 baud change holds until power-off or reset */
   st[ST_UNITS] = s->cfg[CFG_UNITS];
   st[ST_LASER_ON] = 1;
   push_reply(s, due, LMS2XX_CMD_STATUS | 0x80u, st + 1, LMS2XX_STATUS_BYTES);
@@ -487,6 +507,10 @@ size_t lms2xx_transmit(struct lms2xx *s, int64_t now_ns, int64_t until_ns, struc
     const int64_t free_at = max64(s->tx_next_ns, now_ns);
     int64_t job_start = INT64_MAX, scan_start = INT64_MAX, scan_last = -1;
     if (s->job_count) job_start = max64(s->jobs[0].due_ns, free_at);
+    /* A polled scan is one not sent before: if the newest complete one went out already, the
+     * answer waits for the next to complete (at 100 deg / 0.25 deg: 4 sweeps, 18.75 a second). */
+    if (s->job_count && s->jobs[0].kind == JOB_SCAN && newest_polled_scan(s, job_start) <= s->last_sent_sweep)
+      job_start = max64(job_start, sweep_start(s, next_scan_end(s, s->last_sent_sweep) + 1));
     /* While a request is being answered no new scan goes out between its ACK and its reply. */
     if (streaming(s) && s->job_count == 0) {
       const int64_t from = max64(free_at, s->booting_until_ns);
@@ -509,10 +533,10 @@ size_t lms2xx_transmit(struct lms2xx *s, int64_t now_ns, int64_t until_ns, struc
     if (job_start <= scan_start) {
       const struct lms2xx_job *j = &s->jobs[0];
       if (j->kind == JOB_SCAN) {
-        int64_t last = newest_scan_end(s, start);
-        if (s->mode == LMS2XX_MODE_STREAM_PARTIAL) last = last_finished_sweep(s, start);
+        int64_t last = newest_polled_scan(s, start);
         if (last < 0) last = next_scan_end(s, -1); /* no scan yet: this one is early, a corner case */
         s->tx_len = build_scan(s, s->tx, last, s->mode == LMS2XX_MODE_STREAM_PARTIAL);
+        if (last > s->last_sent_sweep) s->last_sent_sweep = last;
       } else {
         memcpy(s->tx, j->bytes, j->len);
         s->tx_len = j->len;

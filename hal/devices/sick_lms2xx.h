@@ -47,6 +47,14 @@ extern "C" {
 #define LMS2XX_BAUD_9600 0x42u
 #define LMS2XX_BAUD_500000 0x48u
 
+/* The 0xB1 status reply's baud word (data byte 116, low byte first, as sicktoolbox reads it):
+ * 0x8019 at 38400 per the telegram listing, which is 0x8000 | (16 MHz / (16 x rate) - 1), the
+ * reload value of a UART clocked at 16 MHz; the other rates follow from that. */
+#define LMS2XX_STATUS_BAUD_9600 0x8067u
+#define LMS2XX_STATUS_BAUD_19200 0x8033u
+#define LMS2XX_STATUS_BAUD_38400 0x8019u
+#define LMS2XX_STATUS_BAUD_500000 0x8001u
+
 /* Measuring modes (configuration block D) and units (block E). */
 #define LMS2XX_MEAS_8_80M_FA_FB_DAZZLE 0x00u /* 13-bit values: 8 m in mm, 80 m in cm */
 #define LMS2XX_MEAS_8_80M_REFLECTOR 0x01u
@@ -184,6 +192,9 @@ size_t lms2xx_transmit(struct lms2xx *s, int64_t now_ns, int64_t until_ns, struc
 uint32_t lms2xx_baud(const struct lms2xx *s);
 /* When that rate took effect: a host reading the line needs the instant, not the call it learnt it in. */
 int64_t lms2xx_baud_since_ns(const struct lms2xx *s);
+
+/* The status reply's baud word for a rate (LMS2XX_STATUS_BAUD_*), 0 for a rate it does not have. */
+uint16_t lms2xx_status_baud_code(uint32_t baud);
 
 /* SICK's CRC-16 (generator 0x8005, each step folds in the current and the previous byte). */
 uint16_t lms2xx_crc(const uint8_t *data, size_t len);
