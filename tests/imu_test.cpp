@@ -99,10 +99,13 @@ TEST(Mpu6000, ResetValuesAndSleepUntilWoken) {
   mpu6000_init(&s, &c, 0);
   Bus bus{&s, false};
   // RM-MPU-6000A: every register resets to 0 but WHO_AM_I (0x68) and PWR_MGMT_1 (0x40, asleep);
-  // PRODUCT_ID holds a production revision D8 (0x58) that Betaflight's detection accepts.
+  // PRODUCT_ID holds a production revision D8 (0x58) that Betaflight's detection accepts, and
+  // SELF_TEST_X..A (0x0D-0x10) the factory trims: the default codes gyro 14/15/16 and accel
+  // 16/17/18 (0b100.00, 0b100.01, 0b100.10) in RM 4.1's layout.
+  const uint8_t trims[4] = {0x80 | 14, 0x80 | 15, 0x80 | 16, 0x00 << 4 | 0x01 << 2 | 0x02};
   for (int r = 0; r < 0x80; ++r) {
     const uint8_t v = bus.read1(static_cast<uint8_t>(r), 0);
-    const uint8_t want = r == 0x75 ? 0x68 : r == 0x6B ? 0x40 : r == 0x0C ? 0x58 : 0;
+    const uint8_t want = r == 0x75 ? 0x68 : r == 0x6B ? 0x40 : r == 0x0C ? 0x58 : (r >= 0x0D && r <= 0x10) ? trims[r - 0x0D] : 0;
     EXPECT_EQ(v, want) << "register 0x" << std::hex << r;
   }
   hold_truth(&s, 0, {0, 0, kG}, {0, 0, 0.5});

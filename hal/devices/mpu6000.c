@@ -42,6 +42,48 @@ void mpu6000_default_config(struct mpu6000_config *c, enum mpu6000_variant varia
   c->accel.scale_error = 0.03 / 3.0;
   c->accel.cross_axis = 0.02 / 3.0;
   c->temperature_c = 25.0;
+  /* Mid-range trim codes: responses of 45-50 deg/s and 0.57-0.61 g, as parts commonly read. */
+  c->self_test_gyro_code[0] = 14;
+  c->self_test_gyro_code[1] = 15;
+  c->self_test_gyro_code[2] = 16;
+  c->self_test_accel_code[0] = 16;
+  c->self_test_accel_code[1] = 17;
+  c->self_test_accel_code[2] = 18;
+  c->self_test_error = 0.0;
+}
+
+/* ---- self-test ---- */
+
+double mpu6000_gyro_trim_dps(uint8_t code, int axis) {
+  if (code == 0) return 0.0;
+  const double trim = 25.0 * pow(1.046, (double)code - 1.0);
+  return axis == 1 ? -trim : trim;
+}
+
+double mpu6000_accel_trim_g(uint8_t code) {
+  if (code == 0) return 0.0;
+  return 0.34 * pow(0.92 / 0.34, ((double)code - 1.0) / 30.0);
+}
+
+/* SELF_TEST_X..A as the factory leaves them (RM 4.1's bit layout). */
+static void load_trim(struct mpu6000 *s) {
+  const uint8_t *g = s->cfg.self_test_gyro_code, *a = s->cfg.self_test_accel_code;
+  for (int i = 0; i < 3; ++i)
+    s->reg[MPU6000_SELF_TEST_X + i] = (uint8_t)(((a[i] >> 2) & 7u) << 5 | (g[i] & 0x1Fu));
+  s->reg[MPU6000_SELF_TEST_A] = (uint8_t)((a[0] & 3u) << 4 | (a[1] & 3u) << 2 | (a[2] & 3u));
+}
+
+/* With an axis' ST bit set its proof mass is actuated: the output moves by the part's response,
+ * the trim times (1 + self_test_error), on top of what it senses. */
+static void add_self_test(const struct mpu6000 *s, double gyro_radps[3], double accel_mps2[3]) {
+  const double k = 1.0 + s->cfg.self_test_error;
+  for (int i = 0; i < 3; ++i) {
+    const uint8_t bit = (uint8_t)(0x80u >> i);
+    if (gyro_radps && (s->reg[MPU6000_GYRO_CONFIG] & bit))
+      gyro_radps[i] += k * mpu6000_gyro_trim_dps(s->cfg.self_test_gyro_code[i], i) * DEG_TO_RAD;
+    if (accel_mps2 && (s->reg[MPU6000_ACCEL_CONFIG] & bit))
+      accel_mps2[i] += k * mpu6000_accel_trim_g(s->cfg.self_test_accel_code[i]) * STANDARD_GRAVITY;
+  }
 }
 
 /* ---- digital low-pass filter ---- */
@@ -129,7 +171,7 @@ static void fifo_push(struct mpu6000 *s, uint8_t b) {
     /* RM 4.33: on overflow the oldest data is lost and the new data written. */
     s->fifo_head = (s->fifo_head + 1) % MPU6000_FIFO_BYTES;
     --s->fifo_count;
-    if (s->reg[MPU6000_INT_ENABLE] & MPU6000_FIFO_OFLOW) s->reg[MPU6000_INT_STATUS] |= MPU6000_FIFO_OFLOW;
+    s->reg[MPU6000_INT_STATUS] |= MPU6000_FIFO_OFLOW; /* RM 4.33: whether or not it is enabled */
   }
   s->fifo[(s->fifo_head + s->fifo_count) % MPU6000_FIFO_BYTES] = b;
   ++s->fifo_count;
@@ -151,6 +193,7 @@ static void reset_registers(struct mpu6000 *s) {
   s->reg[MPU6000_PWR_MGMT_1] = MPU6000_PWR_MGMT_1_RESET;
   s->reg[MPU6000_WHO_AM_I] = MPU6000_WHO_AM_I_VALUE;
   s->reg[MPU6000_PRODUCT_ID] = s->cfg.product_id;
+  load_trim(s);
   memset(s->shown, 0, sizeof s->shown);
   memset(s->latest, 0, sizeof s->latest);
   fifo_clear(s);
@@ -211,11 +254,13 @@ static void process_tick(struct mpu6000 *s, uint64_t n) {
     imu_error_walk(&s->gyro_err, 1e-3);
     imu_error_walk(&s->accel_err, 1e-3);
     imu_error_apply(&s->accel_err, s->specific_force, MPU6000_ACCEL_RATE_HZ, n / 8, a);
+    add_self_test(s, NULL, a);
     biquad_run(&s->accel_lpf, a, s->accel_out);
   }
   if (!fast && n % 8 != 0) return;
   double g[3];
   imu_error_apply(&s->gyro_err, s->rate, fast ? MPU6000_GYRO_RATE_FAST_HZ : MPU6000_GYRO_RATE_SLOW_HZ, n, g);
+  add_self_test(s, g, NULL);
   biquad_run(&s->gyro_lpf, g, s->gyro_out);
   if (s->div_count == 0) sample_tick(s, tick_time(s, n));
   s->div_count = (s->div_count + 1) % (1u + s->reg[MPU6000_SMPLRT_DIV]);

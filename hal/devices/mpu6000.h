@@ -19,6 +19,10 @@ extern "C" {
  * revisions apart. */
 enum {
   MPU6000_PRODUCT_ID = 0x0C,
+  MPU6000_SELF_TEST_X = 0x0D, /* XA_TEST[4:2] in bits 7:5, XG_TEST[4:0] in bits 4:0 (RM 4.1) */
+  MPU6000_SELF_TEST_Y = 0x0E,
+  MPU6000_SELF_TEST_Z = 0x0F,
+  MPU6000_SELF_TEST_A = 0x10, /* XA_TEST[1:0] bits 5:4, YA_TEST[1:0] 3:2, ZA_TEST[1:0] 1:0 */
   MPU6000_SMPLRT_DIV = 0x19,
   MPU6000_CONFIG = 0x1A,
   MPU6000_GYRO_CONFIG = 0x1B,
@@ -51,6 +55,7 @@ enum {
 #define MPU6000_INT_RD_CLEAR 0x10     /* INT_PIN_CFG: any read clears INT_STATUS */
 #define MPU6000_DATA_RDY 0x01         /* INT_ENABLE / INT_STATUS */
 #define MPU6000_FIFO_OFLOW 0x10       /* INT_ENABLE / INT_STATUS */
+#define MPU6000_XYZ_ST 0xE0            /* GYRO_CONFIG / ACCEL_CONFIG: X, Y, Z self-test (bits 7, 6, 5) */
 #define MPU6000_USER_FIFO_EN 0x40
 #define MPU6000_USER_I2C_IF_DIS 0x10
 #define MPU6000_USER_FIFO_RESET 0x04
@@ -89,6 +94,12 @@ struct mpu6000_config {
   struct imu_error_figures gyro;   /* rad/s */
   struct imu_error_figures accel;  /* m/s^2 */
   double temperature_c;            /* die temperature reported at TEMP_OUT */
+  /* Self-test (RM 4.1, PS 6.1/6.2): the factory trim codes the SELF_TEST registers hold, 1..31
+   * (0: no trim), and how far this part's response is from the trim they encode, as a fraction:
+   * 0 a healthy part; beyond +-0.14 (PS: "-14 to +14 % change from factory trim") it fails. */
+  uint8_t self_test_gyro_code[3];
+  uint8_t self_test_accel_code[3];
+  double self_test_error;
 };
 
 /* Datasheet defaults (PS-MPU-6000A tables 6.1 and 6.2), see mpu6000.c for each figure's source. */
@@ -147,9 +158,18 @@ uint8_t mpu6000_spi_transfer(struct mpu6000 *s, uint8_t mosi, uint32_t sck_hz, i
 int mpu6000_i2c_write(struct mpu6000 *s, const uint8_t *data, size_t n, int64_t t_ns);
 int mpu6000_i2c_read(struct mpu6000 *s, uint8_t *data, size_t n, int64_t t_ns);
 
-/* INT_STATUS bits are set only for interrupts enabled in INT_ENABLE (DATA_RDY, FIFO_OFLOW; the
- * motion and I2C-master ones are not modelled). The pin is push-pull logic; INT_OPEN is stored
- * but not modelled.
+/* INT_STATUS, as the register map (RM-MPU-6000A rev 4.2) gives it:
+ *  - FIFO_OFLOW_INT is set on every overflow, enabled or not: 4.33 (FIFO_R_W) says "If the FIFO
+ *    buffer has overflowed, the status bit FIFO_OFLOW_INT is automatically set to 1", with no
+ *    condition; InvenSense's mpu_read_fifo relies on it (it enables only DATA_RDY, reads
+ *    INT_STATUS when the FIFO is over half full, and resets the FIFO on an overflow).
+ *  - DATA_RDY_INT is set only while DATA_RDY_EN is: 4.16 sets it "when a Data Ready interrupt is
+ *    generated", and 4.15 has that interrupt enabled by DATA_RDY_EN ("enables the Data Ready
+ *    interrupt, which occurs each time a write operation to all of the sensor registers has been
+ *    completed"); no section sets it otherwise, unlike FIFO_OFLOW_INT's.
+ *  Both clear when INT_STATUS is read (or on any read with INT_RD_CLEAR). The pin shows only the
+ *  enabled ones; the motion and I2C-master sources are not modelled. The pin is push-pull logic;
+ *  INT_OPEN is stored but not modelled.
  * The INT pin's logic level (1 high) as of the last advance, and the earliest time it may change
  * without a bus access (INT64_MAX: not before one); advancing there and asking again is safe. */
 int mpu6000_int_level(const struct mpu6000 *s);
@@ -164,6 +184,11 @@ int64_t mpu6000_sample_period_ns(const struct mpu6000 *s);
  * at the register map's sensitivity for the full scales ACCEL_CONFIG and GYRO_CONFIG hold (so a
  * revision C part's doubled acceleration shows as such), in m/s^2 and rad/s. */
 void mpu6000_latest_si(const struct mpu6000 *s, double accel_mps2[3], double gyro_radps[3]);
+/* The factory trim a self-test code encodes (RM 4.1), in the units drivers compare it in:
+ * gyro 25 deg/s x 1.046^(code - 1), negative on Y; accel 0.34 g x (0.92 / 0.34)^((code - 1) / 30);
+ * 0 for code 0. axis 0..2 = X..Z. */
+double mpu6000_gyro_trim_dps(uint8_t code, int axis);
+double mpu6000_accel_trim_g(uint8_t code);
 
 #ifdef __cplusplus
 }
