@@ -578,3 +578,35 @@ TEST(GpsUbx, UbxAndNmeaShareThePortsBandwidthAndTheRates) {
   EXPECT_EQ(sol, 5);
   EXPECT_EQ(d.tx.dropped_bytes, 0u);
 }
+
+// NAV-VELNED carries the velocity error of the model in all three axes: over 300 epochs at 10 Hz
+// (a fresh draw every 100 ms tick, so independent) the sample sd of velE, velN and velD about the
+// truth (3, 0, -0.1 m/s) is the configured 0.1 m/s. Its relative standard error is 1/sqrt(2 x 300)
+// = 4 %; 20 % bounds (with the 1 cm/s print step adding 0.3 cm/s in quadrature) fail only a wrong
+// model.
+TEST(GpsUbx, VelnedCarriesTheConfiguredVelocityErrorOnEachAxis) {
+  auto feed = rover_feed();
+  const ublox_neo6m_config c = config(115200);
+  static ublox_neo6m d;
+  ublox_neo6m_init(&d, &c, feed.source(), 0);
+  line = Line();
+  std::int64_t t = 300 * kMs;
+  items(run(d, 0, t));  // the banner
+  ASSERT_EQ(answer(d, t, ubx_bytes(0x06, 0x08, {100, 0, 1, 0, 1, 0})), 1);
+  ASSERT_EQ(answer(d, t, cfg_msg(0x01, 0x12, 1)), 1);
+  std::vector<double> e, n, down;
+  for (const auto& it : items(run(d, t, t + 30 * kSecond)))
+    if (it.ubx && it.frame.cls == 0x01 && it.frame.id == 0x12) {
+      n.push_back(i4(it.frame.payload, 4) * 0.01);
+      e.push_back(i4(it.frame.payload, 8) * 0.01 - 3.0);
+      down.push_back(i4(it.frame.payload, 12) * 0.01 + 0.1);
+    }
+  ASSERT_GE(n.size(), 290u);
+  auto sd = [](const std::vector<double>& v) {
+    double s = 0;
+    for (double x : v) s += x * x;
+    return std::sqrt(s / static_cast<double>(v.size()));
+  };
+  for (const auto* axis : {&e, &n, &down})
+    EXPECT_NEAR(sd(*axis), GNSS_DEFAULT_VELOCITY_SD_MPS, 0.2 * GNSS_DEFAULT_VELOCITY_SD_MPS);
+}
