@@ -25,7 +25,7 @@ extern "C" {
 #define UBLOX_BOOT_NS INT64_C(100000000)   /* banner after power-on: assumption */
 #define UBLOX_OUTPUT_DELAY_NS INT64_C(50000000) /* measurement epoch to its output: assumption */
 #define UBLOX_REPLY_DELAY_NS INT64_C(5000000)   /* end of a command to its answer: assumption */
-#define UBLOX_MAX_PAYLOAD 64  /* longer UBX messages it is sent are consumed and NAKed */
+#define UBLOX_MAX_PAYLOAD 64  /* longer UBX messages it is sent are consumed (a CFG one NAKed) */
 #define UBLOX_MAX_OUT_PAYLOAD UBX_NAV_MAX_PAYLOAD /* the longest it sends: NAV-SVINFO, 12 channels */
 #define UBLOX_NAV5_LEN 36
 #define UBLOX_SBAS_LEN 8

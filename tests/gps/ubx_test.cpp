@@ -515,6 +515,14 @@ TEST(GpsUbx, EachCfgIsAcknowledgedOrRefusedAsAUblox6Does) {
   EXPECT_EQ(polled[0].payload[5], 0);
   t = poll_end + 50 * kMs;
 
+  // CFG-PRT rates and framing the NEO-6 UART does not offer (230400 baud above its 115200; 7N1,
+  // charLen 10): refused, the port unchanged.
+  std::vector<std::uint8_t> fast_prt = {1, 0, 0, 0, 0xD0, 0x08, 0, 0, 0x00, 0x84, 0x03, 0x00, 0x07, 0, 0x03, 0, 0, 0, 0, 0};
+  EXPECT_EQ(answer(d, t, ubx_bytes(0x06, 0x00, fast_prt)), 0);
+  std::vector<std::uint8_t> seven = {1, 0, 0, 0, 0x90, 0x08, 0, 0, 0x00, 0xC2, 0x01, 0x00, 0x07, 0, 0x03, 0, 0, 0, 0, 0};
+  EXPECT_EQ(answer(d, t, ubx_bytes(0x06, 0x00, seven)), 0);
+  EXPECT_EQ(ublox_neo6m_baud(&d), 115200u);
+
   // gpsd's CFG-PRT for binary mode: UART1, 8N1 (0x08D0 with the Antaris bit), 115200, in
   // UBX+NMEA+RTCM, out UBX only: ACK, then no NMEA, only UBX.
   std::vector<std::uint8_t> prt = {1, 0, 0, 0, 0xD0, 0x08, 0, 0, 0x00, 0xC2, 0x01, 0x00, 0x07, 0, 0x01, 0, 0, 0, 0, 0};
@@ -526,8 +534,8 @@ TEST(GpsUbx, EachCfgIsAcknowledgedOrRefusedAsAUblox6Does) {
   }
   EXPECT_TRUE(any_ubx);
   // Refused above: six CFG-RATE and a short one, four NAV ids, GST on, RXM-RAW, three CFG-NAV5,
-  // a short CFG-SBAS.
-  EXPECT_EQ(d.naks, 6u + 1u + 4u + 1u + 1u + 3u + 1u);
+  // a short CFG-SBAS, two CFG-PRT.
+  EXPECT_EQ(d.naks, 6u + 1u + 4u + 1u + 1u + 3u + 1u + 2u);
 }
 
 // UBX and NMEA share the port: at 9600 baud (960 bytes a second) with every NAV message (478
