@@ -152,7 +152,8 @@ std::string safe_name(const std::string& name) {
 }
 
 std::vector<std::string> compile_flags(const FirmwareToolchain& toolchain, const std::vector<fs::path>& sources) {
-  std::vector<std::string> flags{"-std=c99", "-O2", "-g", "-Wall", "-Wextra", "-fno-common"};
+  std::vector<std::string> flags = toolchain.compile_flags;
+  if (flags.empty()) flags = {"-std=c99", "-O2", "-g", "-Wall", "-Wextra", "-fno-common"};
   flags.push_back("-I" + fs::absolute(toolchain.hal_include_dir).lexically_normal().string());
   std::set<std::string> seen;
   for (const auto& source : sources) {

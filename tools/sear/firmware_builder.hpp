@@ -14,6 +14,8 @@ struct FirmwareToolchain {
   std::vector<std::string> libraries;   // static libraries to link, in order (the HAL runtime, device models)
   std::vector<std::string> link_flags;  // after the libraries, e.g. -lm
   std::string cache_dir;                // where built firmware is kept; created when missing
+  // The language, optimisation and target flags; empty: the host build's (C99, -O2, warnings).
+  std::vector<std::string> compile_flags;
 };
 
 // what(): a first line naming the firmware, then the compiler's messages verbatim (they carry file:line).
