@@ -131,9 +131,9 @@ TEST(GpsdDefaultMode, SwitchesTheNeo6mToUbxAndReportsA3dFixWithinTheConfiguredEr
   ASSERT_GT(port, 0);
   std::string json;
   {
-    // Default mode: no -b. -s 9600 only spares gpsd hunting for the rate, which the pty cannot
-    // show it (a pty has no line rate of its own).
-    Spawned gpsd("exec timeout 30 gpsd -N -n -s 9600 -S " + std::to_string(port) + " " + pty + " >/dev/null 2>&1");
+    // The command line: default mode (no -b), no fixed rate (-s): gpsd starts at the
+    // pty's power-up 9600 and recognises the stream there.
+    Spawned gpsd("exec timeout 30 gpsd -N -n -S " + std::to_string(port) + " " + pty + " >/dev/null 2>&1");
     ASSERT_TRUE(wait_for_listener(port)) << "gpsd did not start";
     json = sear::test::command_output("timeout 10 gpspipe -w -n 60 127.0.0.1:" + std::to_string(port) +
                                       " 2>/dev/null")
