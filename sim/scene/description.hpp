@@ -243,6 +243,8 @@ struct McuDesc {
   SourceRef source;
   std::string firmware_executable;            // absolute path, or empty when built from sources
   std::vector<std::string> firmware_sources;  // absolute paths of C files
+  std::string firmware_sketch;                 // an Arduino sketch folder (absolute), or empty
+  std::vector<std::string> firmware_sketch_libraries;  // the user's Arduino library folders, searched in order
   double clock_hz = 16e6;
   double hal_call_cycles = 50;  // what one HAL call costs on the chip
   double avcc_v = 5.0;

@@ -105,6 +105,20 @@ MotorWiring read_motor_wiring(ElementReader& r) {
 }
 
 void read_firmware(ElementReader& r, McuDesc& mcu) {
+  if (r.has("sketch")) {
+    // An Arduino sketch folder (or its .ino), built against hal/arduino (docs/arduino.md).
+    if (r.has("executable") || r.has("sources") || r.has("elf"))
+      r.error("<firmware> names a 'sketch' alone: not with 'executable', 'sources' or 'elf'");
+    const std::string written = r.text("sketch", "");
+    mcu.firmware_sketch = std::filesystem::absolute(path_beside(r.file(), written)).lexically_normal().string();
+    std::error_code error;
+    if (!std::filesystem::exists(mcu.firmware_sketch, error))
+      r.error(fmt::format("<firmware> sketch '{}' does not exist ({})", written, mcu.firmware_sketch));
+    for (const auto& dir : r.names("libraries"))
+      mcu.firmware_sketch_libraries.push_back(std::filesystem::absolute(path_beside(r.file(), dir)).string());
+    r.finish();
+    return;
+  }
   const bool has_exe = r.has("executable");
   const bool has_src = r.has("sources");
   if (has_exe == has_src) {

@@ -17,6 +17,19 @@ void build_project_firmware(ProjectDesc& project, bool quiet) {
       default_toolchain(SEAR_HAL_INCLUDE_DIR, {SEAR_HAL_RUNTIME_LIBRARY}, link_flags);
   for (auto& robot : project.robots) {
     for (auto& mcu : robot.mcus) {
+      if (!mcu.firmware_sketch.empty()) {
+#ifdef SEAR_HAS_SKETCHES
+        std::string said;
+        mcu.firmware_executable = build_sketch(robot.name + "." + mcu.name, mcu.firmware_sketch,
+                                               mcu.firmware_sketch_libraries, default_sketch_toolchain(), &said);
+        if (!said.empty() && !quiet) fmt::print(stderr, "{}", said);
+        continue;
+#else
+        throw FirmwareBuildError(fmt::format("{}: error: this sear was built without the Arduino layer "
+                                             "(arduino-core-avr and arduino-builder were missing)",
+                                             mcu.firmware_sketch));
+#endif
+      }
       if (mcu.firmware_sources.empty()) continue;
       std::string warnings;
       mcu.firmware_executable = build_firmware(robot.name + "." + mcu.name, mcu.firmware_sources, toolchain, &warnings);
