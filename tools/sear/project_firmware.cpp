@@ -5,6 +5,9 @@
 #include "scene/description.hpp"
 #include "sear/commands.hpp"
 #include "sear/firmware_builder.hpp"
+#ifdef SEAR_HAS_SKETCHES
+#include "sear/sketch_build.hpp"
+#endif
 
 namespace sear {
 
