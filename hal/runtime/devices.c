@@ -3,12 +3,26 @@
  * an entry for an operation simply have no such behaviour. */
 #include "devices.h"
 
-
 #include "devices/sharp_gp2d12.h"
-#include "pins.h"
 #include "readings.h"
 
-#include <hal/gpio.h>
+static struct sear_link *link;
+static struct mcu_device devices[SEAR_LINK_MAX_INPUTS];
+static uint8_t pin_device[SEAR_LINK_PINS]; /* the input told of the firmware's writes to the pin */
+
+/* An analog output's volts and a digital output's level go on the board and are kept for the
+ * device's reading. */
+static void put_analog(struct mcu_device *d, uint32_t channel, double volts) {
+  if (channel >= SEAR_LINK_ADC_CHANNELS) return;
+  d->out_v = volts;
+  board_set_analog((uint8_t)channel, volts);
+}
+
+static void put_level(struct mcu_device *d, uint32_t pin, uint8_t level) {
+  if (pin >= SEAR_LINK_PINS) return;
+  d->out_level = level;
+  board_drive_pin((uint8_t)pin, level);
+}
 
 struct device_ops {
   uint8_t listens; /* bit n: pins[n] is a pin the firmware drives that the device is told of */
@@ -29,8 +43,7 @@ struct device_ops {
 };
 
 static void gp2d12_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
-  (void)d;
-  sear_mcu.analog_v[in->pins[0]] = gp2d12_sample_v(s->value[0], in->seed, s->index, in->param[0]);
+  put_analog(d, in->pins[0], gp2d12_sample_v(s->value[0], in->seed, s->index, in->param[0]));
 }
 
 static void gp2d15_start(struct mcu_device *d, const struct sear_link_input *in) {
@@ -38,13 +51,12 @@ static void gp2d15_start(struct mcu_device *d, const struct sear_link_input *in)
 }
 
 static void gp2d15_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
-  mcu_set_driven((uint8_t)in->pins[0], (uint8_t)gp2d15_update(&d->u.gp2d15, s->value[0]));
+  put_level(d, in->pins[0], (uint8_t)gp2d15_update(&d->u.gp2d15, s->value[0]));
 }
 
 static void switch_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
-  (void)d;
   /* A closed contact pulls the pin to ground; an open one leaves it to the pull-up. */
-  mcu_set_driven((uint8_t)in->pins[0], s->value[0] != 0.0 ? 0 : MCU_FLOATING);
+  put_level(d, in->pins[0], s->value[0] != 0.0 ? 0 : MCU_FLOATING);
 }
 
 /* HC-SR04: the firmware's TRIG pulses start measurements; ECHO edges follow at their own times. */
@@ -66,19 +78,18 @@ static int64_t hcsr04_next(const struct mcu_device *d) { return hcsr04_next_edge
 
 static void hcsr04_edge(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns) {
   (void)now_ns;
-  mcu_set_driven((uint8_t)in->pins[1], (uint8_t)hcsr04_take_edge(&d->u.hcsr04));
+  put_level(d, in->pins[1], (uint8_t)hcsr04_take_edge(&d->u.hcsr04));
 }
 
 /* MaxBotix LV-EZ: the simulator decides each reading (the serial output it hosts gives the same
  * one); here its analog voltage and pulse width are played out. */
 static void maxbotix_start(struct mcu_device *d, const struct sear_link_input *in) {
   maxbotix_lv_ez_init(&d->u.maxbotix);
-  if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], 0);
+  put_level(d, in->pins[1], 0);
 }
 
 static void maxbotix_update_analog(struct mcu_device *d, const struct sear_link_input *in, int64_t t_ns) {
-  if (in->pins[0] < SEAR_LINK_ADC_CHANNELS)
-    sear_mcu.analog_v[in->pins[0]] = maxbotix_lv_ez_analog_v(&d->u.maxbotix, t_ns, sear_mcu.link->avcc_v);
+  put_analog(d, in->pins[0], maxbotix_lv_ez_analog_v(&d->u.maxbotix, t_ns, link->avcc_v));
 }
 
 static void maxbotix_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
@@ -96,7 +107,7 @@ static int64_t maxbotix_next(const struct mcu_device *d) {
 static void maxbotix_event(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns) {
   if (maxbotix_lv_ez_next_edge_ns(&d->u.maxbotix) <= now_ns) {
     const int level = maxbotix_lv_ez_take_edge(&d->u.maxbotix);
-    if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)level);
+    put_level(d, in->pins[1], (uint8_t)level);
   } else {
     d->analog_shown_ns = now_ns;
     maxbotix_update_analog(d, in, now_ns);
@@ -107,8 +118,8 @@ static void maxbotix_event(struct mcu_device *d, const struct sear_link_input *i
 static void encoder_start(struct mcu_device *d, const struct sear_link_input *in) {
   encoder_init(&d->u.encoder, (uint32_t)in->param[0], 0.0);
   const int levels = encoder_levels(&d->u.encoder);
-  mcu_set_driven((uint8_t)in->pins[0], (uint8_t)(levels & 1));
-  mcu_set_driven((uint8_t)in->pins[1], (uint8_t)((levels >> 1) & 1));
+  put_level(d, in->pins[0], (uint8_t)(levels & 1));
+  put_level(d, in->pins[1], (uint8_t)((levels >> 1) & 1));
 }
 
 static void encoder_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
@@ -122,7 +133,7 @@ static void encoder_edge(struct mcu_device *d, const struct sear_link_input *in,
   (void)now_ns;
   int channel = 0, level = 0;
   encoder_take_edge(&d->u.encoder, &channel, &level);
-  mcu_set_driven((uint8_t)in->pins[channel ? 1 : 0], (uint8_t)level);
+  put_level(d, in->pins[channel ? 1 : 0], (uint8_t)level);
 }
 
 /* MPU-6000 (SPI) and MPU-6050 (I2C): a register file fed one sample of truth per quantum, which
@@ -160,7 +171,7 @@ static void mpu_event(struct mcu_device *d, const struct sear_link_input *in, in
 }
 
 static void mpu_drive(struct mcu_device *d, const struct sear_link_input *in) {
-  if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)mpu6000_int_level(&d->u.mpu));
+  put_level(d, in->pins[1], (uint8_t)mpu6000_int_level(&d->u.mpu));
 }
 
 static uint8_t mpu_spi(struct mcu_device *d, uint8_t mosi, uint32_t sck_hz, int64_t t_ns) {
@@ -191,7 +202,7 @@ static void hmc_event(struct mcu_device *d, const struct sear_link_input *in, in
 }
 
 static void hmc_drive(struct mcu_device *d, const struct sear_link_input *in) {
-  if (in->pins[1] < SEAR_LINK_PINS) mcu_set_driven((uint8_t)in->pins[1], (uint8_t)hmc5883l_drdy_level(&d->u.hmc));
+  put_level(d, in->pins[1], (uint8_t)hmc5883l_drdy_level(&d->u.hmc));
 }
 static int hmc_i2c_write(struct mcu_device *d, const uint8_t *data, uint8_t length, int64_t t_ns) {
   return hmc5883l_i2c_write(&d->u.hmc, data, length, t_ns);
@@ -241,12 +252,12 @@ static const struct device_ops kinds[SEAR_INPUT_KIND_END] = {
 };
 
 static uint32_t input_count(void) {
-  const uint32_t n = sear_mcu.link->input_count;
+  const uint32_t n = link->input_count;
   return n < SEAR_LINK_MAX_INPUTS ? n : SEAR_LINK_MAX_INPUTS;
 }
 
 static const struct device_ops *ops_of(uint32_t input) {
-  const uint32_t kind = sear_mcu.link->inputs[input].kind;
+  const uint32_t kind = link->inputs[input].kind;
   return kind < SEAR_INPUT_KIND_END ? &kinds[kind] : &kinds[0];
 }
 
@@ -255,42 +266,44 @@ static const struct device_ops *ops_of(uint32_t input) {
  * for the earliest after nearly every HAL call) and brought into the scheduler's next look at
  * once, as a TRIG pulse's echo falls due within the same quantum. */
 static void refresh(uint32_t i, int64_t t_ns) {
-  struct mcu_device *d = &sear_mcu.devices[i];
-  if (ops_of(i)->drive) ops_of(i)->drive(d, &sear_mcu.link->inputs[i]);
+  struct mcu_device *d = &devices[i];
+  if (ops_of(i)->drive) ops_of(i)->drive(d, &link->inputs[i]);
   mcu_readings_touch(i, t_ns);
   d->next_ns = ops_of(i)->next_event ? ops_of(i)->next_event(d) : MCU_TIME_NEVER;
-  if (d->next_ns < sear_mcu.next_due_ns) sear_mcu.next_due_ns = d->next_ns;
+  if (d->next_ns != MCU_TIME_NEVER) board_device_event_at(d->next_ns);
 }
 
-void mcu_devices_init(void) {
-  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) sear_mcu.pin_device[pin] = MCU_NO_DEVICE;
+void mcu_devices_init(struct sear_link *the_link) {
+  link = the_link;
+  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) pin_device[pin] = MCU_NO_DEVICE;
   for (uint32_t i = 0; i < input_count(); ++i) {
-    const struct sear_link_input *in = &sear_mcu.link->inputs[i];
-    if (ops_of(i)->init) ops_of(i)->init(&sear_mcu.devices[i], in);
+    const struct sear_link_input *in = &link->inputs[i];
+    devices[i].out_level = MCU_FLOATING;
+    if (ops_of(i)->init) ops_of(i)->init(&devices[i], in);
     refresh(i, 0);
     /* A device that listens to a pin the firmware drives is told of every level it writes there. */
     for (int p = 0; p < SEAR_LINK_INPUT_PINS; ++p)
-      if ((ops_of(i)->listens >> p & 1) && in->pins[p] < SEAR_LINK_PINS) sear_mcu.pin_device[in->pins[p]] = (uint8_t)i;
+      if ((ops_of(i)->listens >> p & 1) && in->pins[p] < SEAR_LINK_PINS) pin_device[in->pins[p]] = (uint8_t)i;
   }
 }
 
 void mcu_devices_sample(const struct sear_link_sample *s) {
   if (s->input >= input_count()) return;
-  if (ops_of(s->input)->sample) ops_of(s->input)->sample(&sear_mcu.devices[s->input], &sear_mcu.link->inputs[s->input], s);
+  if (ops_of(s->input)->sample) ops_of(s->input)->sample(&devices[s->input], &link->inputs[s->input], s);
   refresh(s->input, s->time_ns);
 }
 
 void mcu_devices_pin_written(uint8_t pin, uint8_t level, int64_t t_ns) {
-  const uint8_t i = sear_mcu.pin_device[pin];
+  const uint8_t i = pin_device[pin];
   if (i == MCU_NO_DEVICE || i >= input_count() || !ops_of(i)->pin_written) return;
-  ops_of(i)->pin_written(&sear_mcu.devices[i], &sear_mcu.link->inputs[i], pin, level, t_ns);
+  ops_of(i)->pin_written(&devices[i], &link->inputs[i], pin, level, t_ns);
   refresh(i, t_ns);
 }
 
 int64_t mcu_devices_next_event(void) {
   int64_t t = MCU_TIME_NEVER;
   for (uint32_t i = 0; i < input_count(); ++i)
-    if (sear_mcu.devices[i].next_ns < t) t = sear_mcu.devices[i].next_ns;
+    if (devices[i].next_ns < t) t = devices[i].next_ns;
   return t;
 }
 
@@ -299,13 +312,13 @@ void mcu_devices_run_due(int64_t now_ns) {
     int64_t t = MCU_TIME_NEVER;
     uint32_t which = 0;
     for (uint32_t i = 0; i < input_count(); ++i) {
-      if (sear_mcu.devices[i].next_ns < t) {
-        t = sear_mcu.devices[i].next_ns;
+      if (devices[i].next_ns < t) {
+        t = devices[i].next_ns;
         which = i;
       }
     }
     if (t > now_ns) return;
-    ops_of(which)->run_event(&sear_mcu.devices[which], &sear_mcu.link->inputs[which], t);
+    ops_of(which)->run_event(&devices[which], &link->inputs[which], t);
     refresh(which, t);
   }
 }
@@ -315,26 +328,30 @@ int mcu_devices_spi_transfer(uint8_t mosi, uint32_t sck_hz, int64_t t_ns) {
   for (uint32_t i = 0; i < input_count(); ++i) {
     const struct device_ops *ops = ops_of(i);
     if (!ops->spi_transfer) continue;
-    const uint32_t cs = sear_mcu.link->inputs[i].pins[ops->spi_cs_slot];
-    if (cs >= SEAR_LINK_PINS || sear_mcu.mode[cs] != OUTPUT || sear_mcu.latch[cs] != LOW) continue;
+    const uint32_t cs = link->inputs[i].pins[ops->spi_cs_slot];
+    if (cs >= SEAR_LINK_PINS || !board_output_low((uint8_t)cs)) continue;
     /* Two selected devices drive MISO against each other: the bus reads their wired AND. */
-    const uint8_t out = ops->spi_transfer(&sear_mcu.devices[i], mosi, sck_hz, t_ns);
+    const uint8_t out = ops->spi_transfer(&devices[i], mosi, sck_hz, t_ns);
     refresh(i, t_ns);
     miso = miso < 0 ? out : (miso & out);
   }
   return miso;
 }
 
+struct sear_link *mcu_devices_link(void) { return link; }
+
+const struct mcu_device *mcu_device_state(uint32_t i) { return &devices[i]; }
+
 static int i2c_device(uint8_t address) {
   for (uint32_t i = 0; i < input_count(); ++i)
-    if (ops_of(i)->i2c_write && sear_mcu.link->inputs[i].pins[ops_of(i)->i2c_address_slot] == address) return (int)i;
+    if (ops_of(i)->i2c_write && link->inputs[i].pins[ops_of(i)->i2c_address_slot] == address) return (int)i;
   return -1;
 }
 
 int mcu_devices_i2c_write(uint8_t address, const uint8_t *data, uint8_t length, int64_t t_ns) {
   const int i = i2c_device(address);
   if (i < 0) return -1;
-  const int acknowledged = ops_of((uint32_t)i)->i2c_write(&sear_mcu.devices[i], data, length, t_ns);
+  const int acknowledged = ops_of((uint32_t)i)->i2c_write(&devices[i], data, length, t_ns);
   refresh((uint32_t)i, t_ns);
   return acknowledged;
 }
@@ -342,7 +359,9 @@ int mcu_devices_i2c_write(uint8_t address, const uint8_t *data, uint8_t length, 
 int mcu_devices_i2c_read(uint8_t address, uint8_t *data, uint8_t length, int64_t t_ns) {
   const int i = i2c_device(address);
   if (i < 0) return -1;
-  const int acknowledged = ops_of((uint32_t)i)->i2c_read(&sear_mcu.devices[i], data, length, t_ns);
+  const int acknowledged = ops_of((uint32_t)i)->i2c_read(&devices[i], data, length, t_ns);
   refresh((uint32_t)i, t_ns);
   return acknowledged;
 }
+
+int mcu_devices_i2c_present(uint8_t address) { return i2c_device(address) >= 0; }

@@ -8,34 +8,10 @@
 #include <hal/uart.h>
 #include <stdint.h>
 
-#include "devices/hcsr04.h"
-#include "devices/hmc5883l.h"
-#include "devices/maxbotix_lv_ez.h"
-#include "devices/mpu6000.h"
-#include "devices/qmc5883l.h"
-#include "devices/quadrature_encoder.h"
-#include "devices/sharp_gp2d15.h"
+#include "devices.h" /* the device entries' constants; their state lives in devices.c */
 #include "lockstep_link.h"
 
-#define MCU_FLOATING 0xFF     /* nothing outside drives the pin */
 #define MCU_ARRIVALS 2048     /* received bytes not yet due, per port: a 10 ms quantum at 2 Mbaud */
-#define MCU_TIME_NEVER INT64_MAX
-#define MCU_NO_DEVICE 0xFF    /* no device listens to the pin */
-
-/* The state of one wired input's model (devices.c says which member its kind uses). */
-struct mcu_device {
-  union {
-    struct gp2d15 gp2d15;
-    struct hcsr04 hcsr04;
-    struct maxbotix_lv_ez maxbotix;
-    struct quadrature_encoder encoder;
-    struct mpu6000 mpu;
-    struct hmc5883l hmc;
-    struct qmc5883l qmc;
-  } u;
-  int64_t analog_shown_ns; /* an analog output's last update */
-  int64_t next_ns;         /* its next event of its own (devices.c keeps it current) */
-};
 
 struct mcu_arrival {
   int64_t time_ns;
@@ -102,8 +78,6 @@ struct mcu {
 
   uint32_t sample_next; /* into link->samples for the current quantum */
   double analog_v[SEAR_LINK_ADC_CHANNELS];
-  struct mcu_device devices[SEAR_LINK_MAX_INPUTS];
-  uint8_t pin_device[SEAR_LINK_PINS]; /* the input told of the firmware's writes to the pin */
 
   uint8_t mode[SEAR_LINK_PINS];
   uint8_t latch[SEAR_LINK_PINS];   /* the level the firmware drives when the pin is an output */

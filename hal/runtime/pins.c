@@ -1,5 +1,6 @@
 /* Pin levels (see pins.h): the firmware's output latches and the levels devices drive onto its
- * inputs; a level change on an input raises its pin interrupt. */
+ * inputs; a level change on an input raises its pin interrupt. And the native side of the board
+ * interface the device entries talk to (devices.h). */
 #include "pins.h"
 
 #include <hal/gpio.h>
@@ -29,4 +30,17 @@ void mcu_set_driven(uint8_t pin, uint8_t level) {
   if ((after == HIGH && (sear_mcu.pin_edges[pin] & IRQ_RISING)) ||
       (after == LOW && (sear_mcu.pin_edges[pin] & IRQ_FALLING)))
     sear_mcu.pin_pending[pin] = 1;
+}
+
+/* The board interface the device entries talk to (devices.h), for the native engine. */
+void board_drive_pin(uint8_t pin, uint8_t level) { mcu_set_driven(pin, level); }
+
+void board_set_analog(uint8_t channel, double volts) { sear_mcu.analog_v[channel] = volts; }
+
+int board_output_low(uint8_t pin) { return sear_mcu.mode[pin] == OUTPUT && sear_mcu.latch[pin] == LOW; }
+
+/* Brought into the scheduler's next look at once, as a TRIG pulse's echo falls due within the
+ * same quantum. */
+void board_device_event_at(int64_t t_ns) {
+  if (t_ns < sear_mcu.next_due_ns) sear_mcu.next_due_ns = t_ns;
 }

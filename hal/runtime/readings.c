@@ -6,8 +6,7 @@
 
 #include <string.h>
 
-#include "devices/sharp_gp2d15.h"
-#include "mcu_state.h"
+#include "devices.h"
 
 static const uint8_t value_count[SEAR_INPUT_KIND_END] = {SEAR_LINK_READING_VALUES_BY_KIND};
 
@@ -22,19 +21,20 @@ static struct {
 
 /* The reading of input i at t_ns into v; returns how many values, 0 while there is none yet. */
 static int reading_of(uint32_t i, int64_t t_ns, double v[SEAR_LINK_SAMPLE_VALUES]) {
-  const struct sear_link_input *in = &sear_mcu.link->inputs[i];
-  struct mcu_device *d = &sear_mcu.devices[i];
+  const struct sear_link *link = mcu_devices_link();
+  const struct sear_link_input *in = &link->inputs[i];
+  const struct mcu_device *d = mcu_device_state(i);
   switch (in->kind) {
     case SEAR_INPUT_GP2D12:
       if (in->pins[0] >= SEAR_LINK_ADC_CHANNELS) return 0;
-      v[0] = sear_mcu.analog_v[in->pins[0]];
+      v[0] = d->out_v;
       return 1;
     case SEAR_INPUT_GP2D15:
       v[0] = gp2d15_level(&d->u.gp2d15);
       return 1;
     case SEAR_INPUT_SWITCH:
       if (in->pins[0] >= SEAR_LINK_PINS) return 0;
-      v[0] = sear_mcu.driven[in->pins[0]] == 0; /* a closed contact pulls the pin to ground */
+      v[0] = d->out_level == 0; /* a closed contact pulls the pin to ground */
       return 1;
     case SEAR_INPUT_HCSR04: {
       const int64_t width = hcsr04_last_echo_width_ns(&d->u.hcsr04);
@@ -44,7 +44,7 @@ static int reading_of(uint32_t i, int64_t t_ns, double v[SEAR_LINK_SAMPLE_VALUES
       return 2;
     }
     case SEAR_INPUT_MAXBOTIX:
-      v[0] = maxbotix_lv_ez_analog_v(&d->u.maxbotix, t_ns, sear_mcu.link->avcc_v);
+      v[0] = maxbotix_lv_ez_analog_v(&d->u.maxbotix, t_ns, link->avcc_v);
       v[1] = maxbotix_lv_ez_shown_inches(&d->u.maxbotix, t_ns);
       return 2;
     case SEAR_INPUT_ENCODER:
@@ -75,7 +75,7 @@ void mcu_readings_touch(uint32_t i, int64_t t_ns) {
 static void update(uint32_t i, int64_t t_ns) {
   double v[SEAR_LINK_SAMPLE_VALUES] = {0};
   const int n = reading_of(i, t_ns, v);
-  const uint32_t kind = sear_mcu.link->inputs[i].kind;
+  const uint32_t kind = mcu_devices_link()->inputs[i].kind;
   if (n <= 0 || kind >= SEAR_INPUT_KIND_END || n != value_count[kind]) return;
   if (last[i].published && memcmp(last[i].value, v, sizeof v) == 0) return;
   /* Each input's operations come in time order but a sample may be stamped a little before the
@@ -84,7 +84,7 @@ static void update(uint32_t i, int64_t t_ns) {
   memcpy(last[i].value, v, sizeof v);
   last[i].time_ns = t_ns;
   last[i].published = 1;
-  struct sear_link_reading *r = &sear_mcu.link->readings[i];
+  struct sear_link_reading *r = &mcu_devices_link()->readings[i];
   r->time_ns = t_ns;
   memcpy(r->value, v, sizeof v);
   /* The simulator reads only between turns, while this process waits: no ordering beyond this. */
