@@ -21,6 +21,7 @@ packages=(
   python3-matplotlib         # draws every run's plots (tools/plots/plot_run.py); without it a run only warns
   chromium chromium-driver python3-selenium python3-pil libjs-three libcivetweb-dev  # the browser viewer: civetweb serves it, three.js draws it, headless chromium tests it
   python3-websocket          # the viewer's tests and bench/view_bench.sh talk to `sear view` as a page would
+  liburdfdom-dev liburdfdom-tools  # URDF robots: urdfdom parses them; the tests hold it against check_urdf
 )
 
 missing=()

@@ -63,22 +63,32 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
 
   chassis_ = dBodyCreate(physics.world());
   dMass mass;
-  // A mesh chassis takes the inertia of its bounding box: a mesh need not be closed (ODE's mesh
-  // inertia needs a closed one), and for the compact chassis of small robots the box is close.
-  dMassSetBoxTotal(&mass, desc.chassis.mass_kg, desc.chassis.size_m.x(), desc.chassis.size_m.y(),
-                   desc.chassis.size_m.z());
+  if (desc.chassis.given_inertia) {
+    // A URDF's lumped links: the chassis origin is their centre of mass, as ODE needs it.
+    const Eigen::Matrix3d& I = desc.chassis.inertia_kgm2;
+    dMassSetParameters(&mass, desc.chassis.mass_kg, 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+  } else {
+    // A mesh chassis takes the inertia of its bounding box: a mesh need not be closed (ODE's mesh
+    // inertia needs a closed one), and for the compact chassis of small robots the box is close.
+    dMassSetBoxTotal(&mass, desc.chassis.mass_kg, desc.chassis.size_m.x(), desc.chassis.size_m.y(),
+                     desc.chassis.size_m.z());
+  }
   dBodySetMass(chassis_, &mass);
   dBodySetPosition(chassis_, origin.x(), origin.y(), origin.z());
   set_rotation(chassis_, yaw);
   const int chassis_material = physics.material_index(desc.chassis.material);
-  dGeomID hull = desc.chassis.shape == ChassisDesc::Shape::Box
-                     ? dCreateBox(physics.dynamic_space(), desc.chassis.size_m.x(), desc.chassis.size_m.y(),
-                                  desc.chassis.size_m.z())
-                     : dCreateTriMesh(physics.dynamic_space(), physics.add_mesh_data(desc.chassis.mesh), nullptr,
-                                      nullptr, nullptr);
-  dGeomSetBody(hull, chassis_);
-  geoms_.push_back(hull);
-  physics.tag(hull, GeomRole::Chassis, entity_, chassis_material);
+  if (desc.chassis.shape == ChassisDesc::Shape::Parts) {
+    for (const auto& part : desc.chassis.parts) add_part(physics, part, chassis_material);
+  } else {
+    dGeomID hull = desc.chassis.shape == ChassisDesc::Shape::Box
+                       ? dCreateBox(physics.dynamic_space(), desc.chassis.size_m.x(), desc.chassis.size_m.y(),
+                                    desc.chassis.size_m.z())
+                       : dCreateTriMesh(physics.dynamic_space(), physics.add_mesh_data(desc.chassis.mesh), nullptr,
+                                        nullptr, nullptr);
+    dGeomSetBody(hull, chassis_);
+    geoms_.push_back(hull);
+    physics.tag(hull, GeomRole::Chassis, entity_, chassis_material);
+  }
 
   for (const auto& c : desc.casters) {
     dGeomID ball = dCreateSphere(physics.dynamic_space(), c.radius_m);
@@ -101,7 +111,12 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
     wheel.steered = w.steered;
     wheel.body = dBodyCreate(physics.world());
     dMass wm;
-    dMassSetCylinderTotal(&wm, w.mass_kg, 3, w.radius_m, w.width_m);
+    if (w.given_inertia) {
+      const Eigen::Matrix3d& I = w.inertia_kgm2;
+      dMassSetParameters(&wm, w.mass_kg, 0, 0, 0, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+    } else {
+      dMassSetCylinderTotal(&wm, w.mass_kg, 3, w.radius_m, w.width_m);
+    }
     dBodySetMass(wheel.body, &wm);
     const Eigen::Vector3d centre = origin + yaw * w.position_m;
     dBodySetPosition(wheel.body, centre.x(), centre.y(), centre.z());
@@ -174,11 +189,54 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
     }
   }
 
+  // A URDF joint's own friction (Coulomb, an angular motor held at zero speed with its torque
+  // capped) and damping (viscous: the same motor with a constraint force mixing of 1 / c, which
+  // ODE solves implicitly, so no damping can make it diverge).
+  const auto hold = [&](std::size_t wheel, double max_torque_nm, double cfm) {
+    dJointID j = dJointCreateAMotor(physics.world(), nullptr);
+    dJointAttach(j, wheels_[wheel].body, chassis_);
+    dJointSetAMotorMode(j, dAMotorUser);
+    dJointSetAMotorNumAxes(j, 1);
+    dJointSetAMotorAxis(j, 0, 1, left.x(), left.y(), left.z());
+    dJointSetAMotorParam(j, dParamVel, 0);
+    dJointSetAMotorParam(j, dParamFMax, max_torque_nm);
+    if (cfm > 0) dJointSetAMotorParam(j, dParamCFM, cfm);
+  };
+  for (std::size_t i = 0; i < desc.wheels.size(); ++i) {
+    if (desc.wheels[i].joint_friction_nm > 0) hold(i, desc.wheels[i].joint_friction_nm, 0);
+    if (desc.wheels[i].joint_damping_nmps > 0) hold(i, dInfinity, 1.0 / desc.wheels[i].joint_damping_nmps);
+  }
+
   if (desc.drive == DriveKind::Ackermann) {
     double steered_x = 0, driven_x = 0;
     for (const auto& w : desc.wheels) (w.steered ? steered_x : driven_x) += 0.5 * w.position_m.x();
     wheelbase_m_ = std::abs(steered_x - driven_x);
   }
+}
+
+void Vehicle::add_part(PhysicsWorld& physics, const ShapeDesc& part, int material) {
+  dGeomID g = nullptr;
+  switch (part.kind) {
+    case ShapeDesc::Kind::Box:
+      g = dCreateBox(physics.dynamic_space(), part.size_m.x(), part.size_m.y(), part.size_m.z());
+      break;
+    case ShapeDesc::Kind::Cylinder:
+      g = dCreateCylinder(physics.dynamic_space(), part.size_m.x(), part.size_m.z());
+      break;
+    case ShapeDesc::Kind::Sphere:
+      g = dCreateSphere(physics.dynamic_space(), part.size_m.x());
+      break;
+    case ShapeDesc::Kind::Mesh:
+      g = dCreateTriMesh(physics.dynamic_space(), physics.add_mesh_data(part.mesh), nullptr, nullptr, nullptr);
+      break;
+  }
+  dGeomSetBody(g, chassis_);
+  dGeomSetOffsetPosition(g, part.position_m.x(), part.position_m.y(), part.position_m.z());
+  const Eigen::Matrix3d& m = part.rotation;
+  dMatrix3 r = {m(0, 0), m(0, 1), m(0, 2), 0, m(1, 0), m(1, 1), m(1, 2), 0, m(2, 0), m(2, 1), m(2, 2), 0};
+  dGeomSetOffsetRotation(g, r);
+  geoms_.push_back(g);
+  physics.tag(g, GeomRole::Chassis, entity_, material);
 }
 
 std::size_t Vehicle::wheel_index(const std::string& name) const {

@@ -68,6 +68,8 @@ class Vehicle {
   // The motor row of a wheel's joint: drive towards target_radps (the wheel relative to the
   // chassis, positive rolling forward) with at most max_torque_nm; 0 switches it off.
   static void set_drive(const Wheel& wheel, double target_radps, double max_torque_nm);
+  // One of a URDF chassis' collision shapes, fixed to the chassis body.
+  void add_part(PhysicsWorld& physics, const ShapeDesc& part, int material);
   Eigen::Vector3d axle_world(std::size_t wheel) const;
   std::size_t wheel_index(const std::string& name) const;
 

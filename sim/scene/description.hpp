@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scene/geodetic.hpp"
@@ -117,13 +118,27 @@ struct WorldDesc {
 
 enum class DriveKind { Differential, SkidSteer, Ackermann };
 
+// A collision shape fixed to a body, placed in that body's frame (a URDF's <collision>).
+struct ShapeDesc {
+  enum class Kind { Box, Cylinder, Sphere, Mesh } kind = Kind::Box;
+  Eigen::Vector3d position_m{0, 0, 0};
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d size_m{0, 0, 0};  // box: sides; cylinder: radius, radius, length along its z; sphere: radius x3
+  TriangleMesh mesh;                // Mesh: in the shape's frame, metres
+};
+
 struct ChassisDesc {
-  enum class Shape { Box, Mesh } shape = Shape::Box;
+  // Parts: the collision shapes in `parts` (a URDF's base and the links fixed to it).
+  enum class Shape { Box, Mesh, Parts } shape = Shape::Box;
   Eigen::Vector3d size_m{0.3, 0.2, 0.08};  // box, or the mesh's bounding box once loaded
   double mass_kg = 1.0;
   std::string material = "default";
   TriangleMesh mesh;
   double bottom_z_m = -0.04;  // lowest point below the chassis origin (box: -size.z / 2)
+  std::vector<ShapeDesc> parts;
+  // A URDF's inertia about the chassis origin, which is then its centre of mass; else the box's.
+  bool given_inertia = false;
+  Eigen::Matrix3d inertia_kgm2 = Eigen::Matrix3d::Zero();
 };
 
 struct WheelDesc {
@@ -135,6 +150,12 @@ struct WheelDesc {
   double mass_kg = 0.05;
   bool steered = false;  // Ackermann front wheels
   std::string material = "default";
+  // From a URDF: inertia about the wheel's centre with z along the axle (else a uniform cylinder's),
+  // and its joint's Coulomb friction and viscous damping.
+  bool given_inertia = false;
+  Eigen::Matrix3d inertia_kgm2 = Eigen::Matrix3d::Zero();
+  double joint_friction_nm = 0;
+  double joint_damping_nmps = 0;
 };
 
 // A ball caster: rolls freely in every direction, so its contacts carry no friction.
@@ -258,6 +279,29 @@ struct McuDesc {
   SourceRef can_source;
 };
 
+// What importing a URDF decided and saw, for `sear check` and the viewer.
+struct UrdfImportDesc {
+  std::string file;  // the URDF, empty for a robot written in SEAR's own files
+  // base_link's origin in the chassis frame (the chassis origin is the lumped centre of mass).
+  Eigen::Vector3d base_origin_m{0, 0, 0};
+  struct Mesh {
+    std::string link, use, file;  // use: "visual" or "collision"
+    Eigen::Vector3d extent_m{0, 0, 0};
+    std::size_t triangles = 0;
+    std::string decision;  // what became of it: "trimesh", "box", "wheel cylinder", ...
+  };
+  std::vector<Mesh> meshes;
+  // A visual, placed in the frame of its body (-1: the chassis, else a wheel's index).
+  struct Visual {
+    int body = -1;
+    std::string link;
+    ShapeDesc shape;
+    Eigen::Vector4d rgba{0.7, 0.7, 0.7, 1.0};
+  };
+  std::vector<Visual> visuals;
+  std::vector<std::pair<SourceRef, std::string>> warnings;
+};
+
 struct RobotDesc {
   std::string name;
   SourceRef source;        // the <robot> element in the project
@@ -272,6 +316,7 @@ struct RobotDesc {
   std::vector<ServoDesc> servos;
   std::vector<ScriptCommand> script;  // sorted by time
   std::vector<McuDesc> mcus;
+  UrdfImportDesc urdf;
 };
 
 struct RunDesc {

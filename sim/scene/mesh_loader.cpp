@@ -11,6 +11,10 @@
 namespace sear {
 
 MeshLoadResult load_mesh(const std::string& path, UpAxis up, double scale) {
+  return load_mesh_scaled(path, up, Eigen::Vector3d::Constant(scale));
+}
+
+MeshLoadResult load_mesh_scaled(const std::string& path, UpAxis up, const Eigen::Vector3d& scale) {
   MeshLoadResult out;
   Assimp::Importer importer;
   // A COLLADA file states its own up axis; we take the user's word (up_axis attribute) for every
@@ -23,7 +27,9 @@ MeshLoadResult load_mesh(const std::string& path, UpAxis up, double scale) {
     out.error = fmt::format("cannot load mesh: {}", importer.GetErrorString());
     return out;
   }
-  const auto s = static_cast<float>(scale);
+  // A COLLADA file's <unit> reaches the vertices through its root node's transform, which
+  // aiProcess_PreTransformVertices applies; the per-axis scale (a URDF's) comes after it.
+  const Eigen::Vector3f s = scale.cast<float>();
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* mesh = scene->mMeshes[m];
     if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
@@ -31,8 +37,8 @@ MeshLoadResult load_mesh(const std::string& path, UpAxis up, double scale) {
     for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
       const aiVector3D& p = mesh->mVertices[v];
       // Y-up to Z-up is a +90 degree turn about X: (x, y, z) -> (x, -z, y); it keeps the winding.
-      out.mesh.vertices.emplace_back(up == UpAxis::Z ? Eigen::Vector3f(p.x, p.y, p.z) * s
-                                                     : Eigen::Vector3f(p.x, -p.z, p.y) * s);
+      out.mesh.vertices.emplace_back((up == UpAxis::Z ? Eigen::Vector3f(p.x, p.y, p.z) : Eigen::Vector3f(p.x, -p.z, p.y))
+                                         .cwiseProduct(s));
     }
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
       const aiFace& face = mesh->mFaces[f];

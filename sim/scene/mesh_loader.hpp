@@ -17,6 +17,8 @@ struct MeshLoadResult {
 
 // `up` says which axis of the file points up; Y-up files are turned so that their Y becomes Z.
 MeshLoadResult load_mesh(const std::string& path, UpAxis up, double scale);
+// The same with a scale per axis (a URDF mesh's `scale`), applied after any unit the file states.
+MeshLoadResult load_mesh_scaled(const std::string& path, UpAxis up, const Eigen::Vector3d& scale);
 
 // Axis-aligned bounds of a loaded mesh.
 void mesh_bounds(const TriangleMesh& mesh, Eigen::Vector3f& lo, Eigen::Vector3f& hi);

@@ -11,6 +11,7 @@
 #include "scene/loader_parts.hpp"
 #include "scene/mesh_loader.hpp"
 #include "scene/nearest_name.hpp"
+#include "scene/robot_parts.hpp"
 #include "scene/value_ranges.hpp"
 
 namespace sear {
@@ -186,6 +187,18 @@ void read_robot_parts(ElementReader& r, const tinyxml2::XMLElement& element, Wor
 
 }  // namespace
 
+// The parts a URDF's mapping shares with SEAR's own robot files (scene/robot_parts.hpp).
+std::string read_robot_material(ElementReader& r, const WorldDesc& world, const Diagnostics& diagnostics) {
+  return read_material(r, world, diagnostics);
+}
+MotorDesc read_robot_motor(ElementReader& r) { return read_motor(r); }
+ServoDesc read_robot_servo(ElementReader& r) { return read_servo(r); }
+void read_robot_pose(ElementReader& r, const WorldDesc& world, RobotDesc& robot) { read_pose(r, world, robot); }
+void add_robot_material(ElementReader& r, WorldDesc& world) {
+  const Material material = read_material_element(r);
+  if (!material.name.empty() && !has_material(world, material.name)) world.materials.push_back(material);
+}
+
 void read_script(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
                  std::vector<ScriptCommand>& script) {
   ElementReader r(&element, file, diagnostics);
@@ -213,6 +226,7 @@ void read_script(const tinyxml2::XMLElement& element, const std::string& file, D
 
 bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
                         WorldDesc& world, RobotDesc& robot) {
+  if (element.Attribute("urdf")) return read_urdf_robot(element, file, diagnostics, world, robot);
   bool parts_read = true;
   ElementReader r(&element, file, diagnostics);
   robot.source = {file, r.line()};

@@ -1,0 +1,165 @@
+// An imported URDF robot in the simulation: its wheels roll (v = omega r), its motors reach the
+// speed of their model, its devices sit on their links, `sear check` prints its meshes' extents,
+// and the avoider firmware drives it through the avoider's scenario.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+
+#include "../command_output.hpp"
+#include "../temp_dir.hpp"
+#include "../test_world.hpp"
+#include "scene/project_loader.hpp"
+
+namespace sear::test {
+namespace {
+
+const std::string kAssets = SEAR_ASSET_DIR;
+
+// The diffbot of assets/robots/diffbot.urdf with the rover's gearmotors, on flat ground.
+std::string diffbot_project(const std::string& extra = "") {
+  return project_xml(R"(step="0.001")", "", R"(
+  <robot name="diffbot" urdf="../robots/diffbot.urdf">
+    <package name="diffbot" dir=".."/>
+    <chassis material="plastic"/>
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster_link"/>
+    <motor name="left" wheels="left" stall_torque="0.6" no_load_rpm="160" gear_friction="0.02"/>
+    <motor name="right" wheels="right" stall_torque="0.6" no_load_rpm="160" gear_friction="0.02"/>
+    )" + extra + R"(
+  </robot>)");
+}
+
+TEST(UrdfRun, ImportedWheelsRollAtOmegaTimesRadius) {
+  const ProjectDesc project = project_from_xml(diffbot_project());
+  Simulation sim(project, 1);
+  const RobotDesc& robot = project.robots[0];
+  ASSERT_EQ(robot.wheels.size(), 2u);
+  const double r = robot.wheels[0].radius_m;
+  EXPECT_NEAR(r, 0.045, 1e-6);  // the wheel STL's rim, 45 mm at scale 0.001 (float vertices)
+  const MotorDesc& motor = robot.motors[0];
+  for (double duty : {0.5, 1.0}) {
+    drive(sim, "left", duty, MotorDirection::Forward);
+    drive(sim, "right", duty, MotorDirection::Forward);
+    run_for(sim, 3.0);
+    const VehicleState s = sim.robot(0).state();
+    const double omega = 0.5 * (sim.robot(0).wheel_speed(0) + sim.robot(0).wheel_speed(1));
+    // Rolling without slip: ODE's friction rows carry no slip term, so a tyre slides only once
+    // traction would exceed mu N, and at a steady speed it pushes against the gearbox friction
+    // alone. What is left is the contacts' give (ERP 0.4, CFM 1e-5 at 1 ms: 4e7 N/m, 0.2 um
+    // under 7.5 N per wheel) and the step's discretisation: 0.2 % of the speed covers both.
+    EXPECT_NEAR(s.forward_speed_mps, omega * r, 0.002 * omega * r) << "duty " << duty;
+    // The torque line meets the gear friction: omega = omega_free (duty - friction / stall);
+    // 5 % as for the hand-written rover (drive_test), for the rolling resistance of the contacts.
+    const double expected = motor.no_load_speed_radps * (duty - motor.gear_friction_nm / motor.stall_torque_nm);
+    EXPECT_NEAR(omega, expected, 0.05 * expected) << "duty " << duty;
+    EXPECT_LT(std::abs(s.position_m.y()), 0.01);  // straight ahead
+  }
+}
+
+TEST(UrdfRun, ImportedRobotRestsOnItsWheelsAndCaster) {
+  // 200 solver iterations: at the default 20 a resting robot creeps (resting_rover_test).
+  std::string xml = diffbot_project();
+  xml.replace(xml.find(R"(step="0.001")"), 12, R"(step="0.001" solver_iterations="200")");
+  const ProjectDesc project = project_from_xml(xml);
+  const RobotDesc& robot = project.robots[0];
+  Simulation sim(project, 1);
+  // It drops its 2 mm of spawn clearance in 20 ms (sqrt(2 h / g)) and has settled well before 0.2 s.
+  run_for(sim, 0.2);
+  Vehicle& v = sim.robot(0);
+  // Both axles 45 mm up, the caster ball's bottom on the ground, base_link's origin (midway
+  // between the wheel centres) 45 mm up: the URDF's geometry, placed about the centre of mass.
+  // 0.5 mm: ODE's contact surface layer (0.5 mm, physics_world) lets a resting body sink that
+  // deep before its contacts push back; the contacts' own give is 0.2 um (ERP 0.4, CFM 1e-5 at
+  // 1 ms: 4e7 N/m under 7.5 N).
+  for (std::size_t w = 0; w < 2; ++w) EXPECT_NEAR(dBodyGetPosition(v.wheel_body(w))[2], 0.045, 5e-4) << w;
+  dVector3 p;
+  const Eigen::Vector3d ball = robot.casters[0].position_m - Eigen::Vector3d(0, 0, robot.casters[0].radius_m);
+  dBodyGetRelPointPos(v.chassis_body(), ball.x(), ball.y(), ball.z(), p);
+  EXPECT_NEAR(p[2], 0.0, 5e-4);
+  const Eigen::Vector3d base = robot.urdf.base_origin_m;
+  dBodyGetRelPointPos(v.chassis_body(), base.x(), base.y(), base.z(), p);
+  EXPECT_NEAR(p[2], 0.045, 5e-4);
+  // The pose places the chassis origin, the centre of mass; base_link is 41 mm ahead of it.
+  EXPECT_NEAR(p[0], base.x(), 1e-4);
+  EXPECT_NEAR(v.state().position_m.x(), 0.0, 1e-4);
+  EXPECT_LT(v.state().velocity_mps.norm(), 1e-3);
+}
+
+TEST(UrdfRun, DevicesSitOnTheirLinks) {
+  Diagnostics diagnostics;
+  const auto project = load_project(kAssets + "/projects/avoider_urdf.xml", diagnostics);
+  ASSERT_TRUE(project) << diagnostics.joined();
+  const RobotDesc& robot = project->robots[0];
+  const Eigen::Vector3d base = robot.urdf.base_origin_m;
+  const auto device = [&](const std::string& name) -> const DeviceDesc& {
+    for (const auto& d : robot.mcus[0].devices)
+      if (d.name == name) return d;
+    throw std::runtime_error("no device " + name);
+  };
+  // ir_left_joint: xyz 0.11 0.06 0.03, yaw 30 degrees.
+  EXPECT_TRUE((device("ir_left").position_m - base).isApprox(Eigen::Vector3d(0.11, 0.06, 0.03), 1e-12));
+  EXPECT_NEAR(device("ir_left").yaw_rad, M_PI / 6, 1e-12);
+  EXPECT_NEAR(device("ir_right").yaw_rad, -M_PI / 6, 1e-12);
+  EXPECT_TRUE((device("bumper").position_m - base).isApprox(Eigen::Vector3d(0.10, 0, 0), 1e-12));
+  // The lumped centre of mass: the 1.5 kg chassis at (-0.04, 0, 0.01) and the 0.02 kg caster
+  // ball at (-0.15, 0, -0.025) under base_link.
+  EXPECT_TRUE((-base).isApprox(Eigen::Vector3d((1.5 * -0.04 + 0.02 * -0.15) / 1.52, 0, (1.5 * 0.01 + 0.02 * -0.025) / 1.52),
+                               1e-12))
+      << base.transpose();
+}
+
+TEST(UrdfRun, MountErrorsNameTheirLine) {
+  const std::string xml = diffbot_project(R"(<mcu name="main">
+      <firmware sources="../../firmware_examples/avoider/avoider.c"/>
+      <gp2d12 name="ir" adc="0"/>
+    </mcu>
+    <mount device="ir" link="ir_lef_link"/>
+    <mount device="nothing" link="ir_left_link"/>)");
+  Diagnostics diagnostics;
+  EXPECT_FALSE(load_project_text(xml, kAssets + "/projects/inline.xml", diagnostics));
+  const std::string all = diagnostics.joined();
+  EXPECT_NE(all.find("<mount> names link 'ir_lef_link', which the URDF does not have (did you mean 'ir_left_link'?)"),
+            std::string::npos)
+      << all;
+  EXPECT_NE(all.find("<mount> names unknown device 'nothing'"), std::string::npos) << all;
+}
+
+TEST(UrdfRun, CheckPrintsEachMeshExtentInMetres) {
+  const CommandOutput out = command_output(std::string(SEAR_BINARY) + " check " + kAssets +
+                                           "/projects/avoider_urdf.xml 2>&1");
+  ASSERT_EQ(out.exit_code, 0) << out.out;
+  // The chassis STL in mm at scale 0.001 and the rangers' COLLADA in mm by its <unit>.
+  EXPECT_NE(out.out.find("base_link visual package://diffbot/meshes/diffbot/chassis.stl: 0.3 x 0.18 x 0.06 m"),
+            std::string::npos)
+      << out.out;
+  EXPECT_NE(out.out.find("ir_left_link visual package://diffbot/meshes/diffbot/ranger.dae: 0.013 x 0.04 x 0.014 m"),
+            std::string::npos)
+      << out.out;
+  EXPECT_NE(out.out.find("left_wheel collision package://diffbot/meshes/diffbot/wheel.stl: 0.09 x 0.025 x 0.09 m"),
+            std::string::npos)
+      << out.out;
+}
+
+// The avoider, unmodified, drives the imported robot through the avoider's own scenario.
+TEST(UrdfRun, AvoiderDrivesTheImportedRobotThroughItsScenario) {
+  TempDir dir;
+  const auto out = dir.path() / "run";
+  const CommandOutput run = command_output(std::string(SEAR_BINARY) + " run " + kAssets +
+                                           "/projects/avoider_urdf.xml --quiet -o " + out.string() + " 2>&1");
+  const std::string summary_text = [&] {
+    std::ifstream in(out / "summary.json");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  ASSERT_EQ(run.exit_code, 0) << run.out << summary_text;
+  const auto summary = nlohmann::json::parse(summary_text);
+  ASSERT_EQ(summary["expectations"].size(), 6u);
+  for (const auto& e : summary["expectations"]) EXPECT_EQ(e["verdict"], "passed") << e.dump();
+}
+
+}  // namespace
+}  // namespace sear::test
