@@ -15,6 +15,7 @@ packages=(
   qemu-system-x86 busybox-static can-utils  # the vcan tests boot Debian's kernel in a guest (scripts/vcan-guest)
   clang libclang-rt-14-dev   # libFuzzer for the project-file fuzz target
   gcc-avr avr-libc binutils-avr  # the ATmega2560 build of the HAL and the firmware examples
+  libsimavr-dev              # the AVR engine (engines/avr) runs AVR images on libsimavr's ATmega2560
   arduino-core-avr arduino-builder  # Arduino sketches: Debian's core (Print, Stream, WString) and the IDE's .ino preprocessing
   gtkwave                    # vcd2fst and fst2vcd read the MCUs' VCD waveforms back in the tests
   parallel                   # GNU parallel runs `sear test --shard K/N` shards in the tests (and over ssh hosts)

@@ -101,10 +101,11 @@ McuProcess::McuProcess(const std::string& executable, const std::string& host_lo
   link_->guard_back = SEAR_LINK_GUARD;
   link_->turn = SEAR_TURN_SIM;
   setup(*link_, setup_context);
-  spawn(executable, host_log, options.max_file_bytes);
+  spawn(executable, host_log, options.max_file_bytes, options.args);
 }
 
-void McuProcess::spawn(const std::string& executable, const std::string& host_log, std::uint64_t max_file_bytes) {
+void McuProcess::spawn(const std::string& executable, const std::string& host_log, std::uint64_t max_file_bytes,
+                       const std::vector<std::string>& args) {
   const int exe = open(executable.c_str(), O_RDONLY | O_CLOEXEC);
   if (exe < 0) throw std::runtime_error(fmt::format("cannot start firmware {}: {}", executable, std::strerror(errno)));
   const int log = open(host_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -118,7 +119,9 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
   for (const auto& e : env_text) env.push_back(const_cast<char*>(e.c_str()));
   env.push_back(nullptr);
   char name[] = "firmware";
-  char* argv[] = {name, nullptr};
+  std::vector<char*> argv{name};
+  for (const auto& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
+  argv.push_back(nullptr);
   char empty[] = "";
   const char* const path = executable.c_str();
   const pid_t simulator = getpid();
@@ -161,10 +164,10 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
     dup3(exe_fd, kExecutableFd, O_CLOEXEC);
     if (report_fd >= 0) dup3(report_fd, kExecReportFd, O_CLOEXEC);
     syscall(SYS_close_range, static_cast<unsigned>(kExecReportFd + 1), ~0u, 0u);
-    syscall(SYS_execveat, kExecutableFd, empty, argv, env.data(), AT_EMPTY_PATH);
+    syscall(SYS_execveat, kExecutableFd, empty, argv.data(), env.data(), AT_EMPTY_PATH);
     // A script (#!) cannot be run from a descriptor closed on exec, as its interpreter opens the
     // path "/dev/fd/4": it runs from its own path, which only its addresses depend on.
-    if (errno == ENOENT) execve(path, argv, env.data());
+    if (errno == ENOENT) execve(path, argv.data(), env.data());
     const int exec_error = errno;
     const ssize_t reported = write(kExecReportFd, &exec_error, sizeof exec_error);
     _exit(reported == static_cast<ssize_t>(sizeof exec_error) ? 127 : 126);

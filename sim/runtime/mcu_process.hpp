@@ -35,6 +35,7 @@ struct McuProcessOptions {
   double hang_timeout_s = 5;
   std::int64_t call_cost_ns = 0;               // what one HAL call costs, the simulator's own copy
   std::uint64_t max_file_bytes = UINT64_MAX;   // the most the firmware may write to any one file
+  std::vector<std::string> args;               // after its name: an engine's own arguments (engines/avr)
 };
 
 class McuProcess {
@@ -69,7 +70,8 @@ class McuProcess {
   const char* last_call_name() const { return hal_call_name(watch_.last_call); }
 
  private:
-  void spawn(const std::string& executable, const std::string& host_log, std::uint64_t max_file_bytes);
+  void spawn(const std::string& executable, const std::string& host_log, std::uint64_t max_file_bytes,
+             const std::vector<std::string>& args);
   void stop(McuFailure failure);
   void corrupted(const char* why);
   void read_unfinished_turn();

@@ -264,6 +264,10 @@ struct McuDesc {
   SourceRef source;
   std::string firmware_executable;            // absolute path, or empty when built from sources
   std::vector<std::string> firmware_sources;  // absolute paths of C files
+  // "native" (the firmware as a host process) or "avr" (its AVR image on libsimavr, engines/avr)
+  std::string engine = "native";
+  std::string firmware_elf;                // engine "avr": the AVR image given, or empty to build it from sources
+  std::vector<std::string> firmware_args;  // after the executable's name: the AVR engine's clock and image
   std::string firmware_sketch;                 // an Arduino sketch folder (absolute), or empty
   std::vector<std::string> firmware_sketch_libraries;  // the user's Arduino library folders, searched in order
   double clock_hz = 16e6;

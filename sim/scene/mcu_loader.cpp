@@ -121,7 +121,16 @@ void read_firmware(ElementReader& r, McuDesc& mcu) {
   }
   const bool has_exe = r.has("executable");
   const bool has_src = r.has("sources");
-  if (has_exe == has_src) {
+  const bool has_elf = r.has("elf");
+  if (has_elf && (has_exe || has_src)) {
+    r.error("<firmware> names either 'elf' (an AVR image), 'executable' (a built firmware) or 'sources' (C files "
+            "to compile), one of them");
+  } else if (has_elf) {
+    // The very image that would be flashed; it runs only on the AVR engine.
+    const std::string written = r.text("elf", "");
+    mcu.firmware_elf = path_beside(r.file(), written);
+    check_readable_file(r, "AVR image", written, mcu.firmware_elf);
+  } else if (has_exe == has_src) {
     r.error("<firmware> needs either 'executable' (a built firmware) or 'sources' (C files to compile)");
   } else if (has_exe) {
     const std::string written = r.text("executable", "");
@@ -157,6 +166,7 @@ void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diag
   mcu.name = r.required_text("name").value_or("");
   check_name(r, mcu.name);
   mcu.clock_hz = r.number("clock_hz", mcu.clock_hz, ranges::kClock, "Hz");
+  mcu.engine = r.choice("engine", {"native", "avr"}, 0) == 1 ? "avr" : "native";
   // A chip counts whole cycles.
   mcu.hal_call_cycles = r.whole_number("hal_call_cycles", mcu.hal_call_cycles, ranges::kHalCallCycles);
   mcu.avcc_v = r.number("avcc", mcu.avcc_v, ranges::kAvcc, "V");
@@ -205,6 +215,14 @@ void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diag
                  mcu.uarts.push_back(u);
                }
              });
+  // Where each firmware can run: an AVR image needs the AVR engine, a prebuilt host executable the
+  // native one; sources build for either.
+  if (!mcu.firmware_elf.empty() && mcu.engine != "avr")
+    r.error(fmt::format("<mcu> '{}': <firmware elf> is an AVR image, which runs only with engine=\"avr\"", mcu.name));
+  if (!mcu.firmware_executable.empty() && mcu.engine == "avr")
+    r.error(fmt::format("<mcu> '{}': engine=\"avr\" runs an AVR image: name it with <firmware elf> or give "
+                        "'sources', not a host 'executable'",
+                        mcu.name));
   r.finish();
 }
 

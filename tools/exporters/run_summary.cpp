@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <fstream>
 
 #include <nlohmann/json.hpp>
 
@@ -100,6 +101,13 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
   j["expectations"] = nlohmann::ordered_json::array();
   for (const auto& e : o.expectations)
     j["expectations"].push_back({{"name", e.name}, {"verdict", e.verdict}, {"time_s", e.time_s}, {"seen", e.seen}});
+  j["avr_engines"] = nlohmann::ordered_json::object();
+  for (const auto& [mcu, file] : o.avr_reports) {
+    std::ifstream in(file);
+    // An engine stopped before its first report leaves none: null rather than a guess.
+    j["avr_engines"][mcu] = nlohmann::ordered_json::parse(in, nullptr, false);
+    if (j["avr_engines"][mcu].is_discarded()) j["avr_engines"][mcu] = nullptr;
+  }
   j["host_ports"] = nlohmann::ordered_json::array();
   for (const auto& port : o.host_ports) j["host_ports"].push_back({{"name", port.name}, {"path", port.path}, {"link", port.link}, {"dropped", port.dropped}});
   // Names are checked UTF-8 at load, but paths from the command line are the user's bytes: any

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include <utility>
 #include <vector>
 
 #include "runtime/lockstep.hpp"
@@ -36,6 +37,9 @@ struct RunOutcome {
     std::string seen;     // for a failure: what was seen instead
   };
   std::vector<Expectation> expectations;
+  // MCUs on the AVR engine: "robot.mcu" and the report its engine wrote (CPU load, ISRs, top
+  // functions, stack; docs/avr-engine.md).
+  std::vector<std::pair<std::string, std::string>> avr_reports;
 };
 
 // "mcu rover.main crashed with signal 11 (...) at sim time 1.234 s; last HAL call: adc_read"

@@ -14,6 +14,8 @@ struct RunOptions {
   std::optional<double> duration_s;      // overrides the project's <run duration>
   std::optional<std::uint64_t> seed;     // overrides the project's <run seed>
   std::optional<double> trace_rate_hz;   // overrides the project's <run trace_rate>
+  std::string engine;                    // "native" or "avr" for every MCU; empty: each <mcu engine>
+  bool cross_check = false;              // run on both engines and report where they part (cross_check.cpp)
   std::string out_dir = "sear-out";
   bool quiet = false;
   double hang_timeout_s = 5;  // host seconds a firmware may go without progress
@@ -50,6 +52,10 @@ inline constexpr int kExpectationFailedExitCode = 5;
 std::string resolve_project_path(const std::string& argument);
 
 int run_command(const RunOptions& options);
+// `sear run --cross-check`: the run on the native engine, then on the AVR engine (OUT/native,
+// OUT/avr), and OUT/cross_check.json naming each difference and its likely cause; exit code 5
+// when they part.
+int cross_check_command(const RunOptions& options);
 // `sear view --replay FILE`: the viewer playing FILE back; no simulation runs.
 int view_replay_command(const std::string& file, const std::string& bind, int port);
 

@@ -11,8 +11,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -282,6 +284,27 @@ FirmwareToolchain default_toolchain(std::string hal_include_dir, std::vector<std
   return toolchain;
 }
 
+FirmwareToolchain avr_toolchain(std::string hal_include_dir, const std::string& hal_avr_dir, double clock_hz) {
+  FirmwareToolchain toolchain = default_toolchain(std::move(hal_include_dir), {}, {"-mmcu=atmega2560", "-Wl,--gc-sections", "-lm"});
+  toolchain.compiler = getenv_or_empty("AVR_CC");
+  if (toolchain.compiler.empty()) toolchain.compiler = "avr-gcc";
+  // As cmake/avr-gcc.cmake builds the examples: for size, each function in its own section so
+  // that --gc-sections drops what the firmware never calls. GNU C for the HAL's ISR() and
+  // ATOMIC_BLOCK.
+  toolchain.compile_flags = {"-std=gnu99", "-mmcu=atmega2560", fmt::format("-DF_CPU={}UL", std::llround(clock_hz)),
+                             "-Os", "-g", "-Wall", "-Wextra", "-ffunction-sections", "-fdata-sections"};
+  std::vector<std::string> hal;
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(hal_avr_dir, error))
+    if (entry.path().extension() == ".c") hal.push_back(entry.path().string());
+  if (hal.empty()) throw FirmwareBuildError(fmt::format("{}: error: no AVR HAL sources here", hal_avr_dir));
+  std::sort(hal.begin(), hal.end());  // the same order, the same image
+  toolchain.extra_sources = hal;
+  toolchain.archiver = getenv_or_empty("AVR_AR");
+  if (toolchain.archiver.empty()) toolchain.archiver = "avr-ar";
+  return toolchain;
+}
+
 std::string build_firmware(const std::string& name, const std::vector<std::string>& sources,
                            const FirmwareToolchain& toolchain, std::string* compiler_output) {
   if (compiler_output) compiler_output->clear();
@@ -290,12 +313,14 @@ std::string build_firmware(const std::string& name, const std::vector<std::strin
   // Absolute paths, so the compiler's messages and dependency lists do not depend on our working directory.
   std::vector<fs::path> source_paths;
   for (const auto& source : sources) source_paths.push_back(fs::absolute(source).lexically_normal());
+  for (const auto& source : toolchain.extra_sources) source_paths.push_back(fs::absolute(source).lexically_normal());
   const std::vector<std::string> flags = compile_flags(toolchain, source_paths);
 
   // Everything known before compiling goes into the base key; the headers follow in full_key().
   Fnv1a base;
   base.field(kLayoutVersion);
   base.field(toolchain.compiler);
+  base.field(toolchain.archiver);
   const ProcessResult version = run_process({toolchain.compiler, "--version"});
   if (!version.ok) {
     throw FirmwareBuildError(fmt::format("cannot run the C compiler '{}' (set $CC to the compiler to use):\n{}",
@@ -369,6 +394,19 @@ std::string build_firmware(const std::string& name, const std::vector<std::strin
   }
   if (!compiled) throw FirmwareBuildError(fmt::format("firmware '{}' failed to build:\n{}", name, output));
 
+  if (!toolchain.archiver.empty() && !toolchain.extra_sources.empty()) {
+    // The extra sources (a HAL) become an archive, so that only the parts a firmware uses are
+    // linked: a register-level firmware's own ISR() must not meet the HAL's for the same vector.
+    const std::size_t first = link.size() - toolchain.extra_sources.size();
+    const std::string archive = (scratch.path() / "hal.a").string();
+    std::vector<std::string> ar{toolchain.archiver, "rcs", archive};
+    ar.insert(ar.end(), link.begin() + static_cast<std::ptrdiff_t>(first), link.end());
+    const ProcessResult archived = run_process(ar);
+    output += archived.output;
+    if (!archived.ok) throw FirmwareBuildError(fmt::format("firmware '{}' failed to build:\n{}", name, output));
+    link.resize(first);
+    link.push_back(archive);
+  }
   const fs::path staged = scratch.path() / "staged";
   fs::create_directory(staged, error);
   link.insert(link.end(), libraries.begin(), libraries.end());

@@ -16,6 +16,8 @@ struct FirmwareToolchain {
   std::string cache_dir;                // where built firmware is kept; created when missing
   // The language, optimisation and target flags; empty: the host build's (C99, -O2, warnings).
   std::vector<std::string> compile_flags;
+  std::vector<std::string> extra_sources;  // compiled with every firmware: the AVR build's HAL
+  std::string archiver;                    // when set, the extra sources are linked from an archive it makes
 };
 
 // what(): a first line naming the firmware, then the compiler's messages verbatim (they carry file:line).
@@ -33,6 +35,10 @@ struct FirmwareBuildInterrupted : FirmwareBuildError {
 // else $HOME/.cache/sear/firmware.
 FirmwareToolchain default_toolchain(std::string hal_include_dir, std::vector<std::string> libraries,
                                     std::vector<std::string> link_flags = {});
+
+// The ATmega2560 build for the AVR engine: avr-gcc ($AVR_CC names another) against the HAL of
+// hal/targets/avr (its .c files in hal_avr_dir), F_CPU from the MCU's clock; the result is an ELF.
+FirmwareToolchain avr_toolchain(std::string hal_include_dir, const std::string& hal_avr_dir, double clock_hz);
 
 // Returns the path of an up-to-date executable built from `sources`, compiling only when a source, a
 // header one of them includes, a library, the compiler or the flags changed. Concurrent calls, in this

@@ -64,6 +64,13 @@ int main(int argc, char** argv) {
                       "Trace rows per simulated second, rounded to whole steps (default: the project's)")
       ->check(finite_number(sear::kMinTraceRate_hz, sear::kMaxTraceRate_hz, false, "a rate of 0.01..1e6 Hz"));
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing but errors");
+  run_cmd->add_option("--engine", run.engine,
+                      "Run every MCU on this engine: native (the firmware as a host process) or avr (its "
+                      "ATmega2560 image, instruction by instruction on libsimavr); default: each <mcu engine>")
+      ->check(CLI::IsMember({"native", "avr"}));
+  run_cmd->add_flag("--cross-check", run.cross_check,
+                    "Run on both engines (OUT/native, OUT/avr) with the same scenario and seed, and report where "
+                    "they part (OUT/cross_check.json); exit code 5 when they do");
   run_cmd->add_option("--hang-timeout", run.hang_timeout_s,
                       "Host seconds a firmware may go without a HAL call before it is reported as hung and stopped")
       ->capture_default_str()
@@ -216,7 +223,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (new_cmd->parsed()) return sear::new_command(new_project);
   if (test_cmd->parsed()) return sear::test_command(test);
-  if (run_cmd->parsed()) return sear::run_command(run);
+  if (run_cmd->parsed()) return run.cross_check ? sear::cross_check_command(run) : sear::run_command(run);
   if (view_cmd->parsed()) {
     if (!view_replay.empty()) return sear::view_replay_command(view_replay, view.view_bind, view.view_port);
     view.view_wait_start = !view_start;

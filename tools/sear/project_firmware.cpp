@@ -1,5 +1,6 @@
-// Turns every MCU's <firmware sources="..."> into an executable before a run, through the cached
-// firmware builder, against the HAL runtime this `sear` was built with.
+// Turns every MCU's <firmware sources="..."> into what its engine runs before a run, through the
+// cached firmware builder: a host executable against the HAL runtime this `sear` was built with,
+// or, on the AVR engine, an ATmega2560 image against hal/targets/avr, run by sear-avr-engine.
 #include <fmt/format.h>
 
 #include "scene/description.hpp"
@@ -33,9 +34,17 @@ void build_project_firmware(ProjectDesc& project, bool quiet) {
                                              mcu.firmware_sketch));
 #endif
       }
-      if (mcu.firmware_sources.empty()) continue;
       std::string warnings;
-      mcu.firmware_executable = build_firmware(robot.name + "." + mcu.name, mcu.firmware_sources, toolchain, &warnings);
+      if (mcu.engine == "avr") {
+        std::string elf = mcu.firmware_elf;
+        if (elf.empty())
+          elf = build_firmware(robot.name + "." + mcu.name + ".avr", mcu.firmware_sources,
+                               avr_toolchain(SEAR_HAL_INCLUDE_DIR, SEAR_HAL_AVR_DIR, mcu.clock_hz), &warnings);
+        mcu.firmware_executable = SEAR_AVR_ENGINE;
+        mcu.firmware_args = {"--clock-hz", fmt::format("{}", mcu.clock_hz), elf};
+      } else if (!mcu.firmware_sources.empty()) {
+        mcu.firmware_executable = build_firmware(robot.name + "." + mcu.name, mcu.firmware_sources, toolchain, &warnings);
+      }
       if (!warnings.empty() && !quiet) fmt::print(stderr, "{}", warnings);
     }
   }

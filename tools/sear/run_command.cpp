@@ -117,6 +117,27 @@ int run_command(const RunOptions& options) {
   if (options.duration_s) project->run.duration_s = *options.duration_s;
   if (options.seed) project->run.seed = *options.seed;
   if (options.trace_rate_hz) project->run.trace_rate_hz = *options.trace_rate_hz;
+  if (!options.engine.empty()) {
+    // --engine puts every MCU on one engine; a firmware only one engine can run is refused.
+    for (auto& robot : project->robots) {
+      for (auto& mcu : robot.mcus) {
+        mcu.engine = options.engine;
+        const std::string id = robot.name + "." + mcu.name;
+        if (mcu.engine == "avr" && !mcu.firmware_executable.empty()) {
+          fmt::print(stderr, "{}:{}: error: --engine avr: mcu {} runs a host executable; the AVR engine needs its "
+                             "sources or an AVR image (<firmware elf>)\n",
+                     mcu.source.file, mcu.source.line, id);
+          return 1;
+        }
+        if (mcu.engine == "native" && !mcu.firmware_elf.empty()) {
+          fmt::print(stderr, "{}:{}: error: --engine native: mcu {} is an AVR image (<firmware elf>), which runs "
+                             "only on the AVR engine\n",
+                     mcu.source.file, mcu.source.line, id);
+          return 1;
+        }
+      }
+    }
+  }
   const auto max_file_bytes = static_cast<std::uint64_t>(options.max_file_mb * 1024.0 * 1024.0);
 
   try {
@@ -127,6 +148,18 @@ int run_command(const RunOptions& options) {
   } catch (const FirmwareBuildError& e) {
     fmt::print(stderr, "{}\n", e.what());
     return 1;
+  }
+
+  // Each AVR engine keeps its report (CPU load, ISRs, top functions, stack) in the output folder;
+  // the summary takes it in at the end.
+  std::vector<std::pair<std::string, std::string>> avr_reports;
+  for (auto& robot : project->robots) {
+    for (auto& mcu : robot.mcus) {
+      if (mcu.engine != "avr") continue;
+      const std::string id = robot.name + "." + mcu.name;
+      avr_reports.emplace_back(id, options.out_dir + "/" + id + ".avr.json");
+      mcu.firmware_args.insert(mcu.firmware_args.begin(), {"--report", avr_reports.back().second});
+    }
   }
 
   try {
@@ -298,6 +331,7 @@ int run_command(const RunOptions& options) {
     outcome.wall_time_s = seconds_since(start);
     outcome.mcu_stops = lockstep.stops();
     outcome.host_ports = host_ports.final_listing();
+    outcome.avr_reports = avr_reports;
     outcome.status = interrupted        ? "interrupted"
                      : physics_failed   ? "physics failed"
                      : !outcome.mcu_stops.empty() ? "mcu stopped"

@@ -176,12 +176,54 @@ Json sensor_of(const DeviceDesc& d, const std::string& mcu_id) {
   return s;
 }
 
+// A URDF shape (collision or visual) in its body's frame, as the page's shapeGeometry reads it.
+Json shape_of(const ShapeDesc& s) {
+  Json o = {{"shape", ""}, {"pos", vec3(s.position_m)}, {"quat", quat(Eigen::Quaterniond(s.rotation))}};
+  switch (s.kind) {
+    case ShapeDesc::Kind::Box:
+      o["shape"] = "box";
+      o["size"] = vec3(s.size_m);
+      break;
+    case ShapeDesc::Kind::Cylinder:
+      o["shape"] = "cylinder";
+      o["radius"] = round_mm(s.size_m.x());
+      o["length"] = round_mm(s.size_m.z());
+      break;
+    case ShapeDesc::Kind::Sphere:
+      o["shape"] = "sphere";
+      o["radius"] = round_mm(s.size_m.x());
+      break;
+    case ShapeDesc::Kind::Mesh:
+      o["shape"] = "mesh";
+      put_mesh(s.mesh, o);
+      break;
+  }
+  return o;
+}
+
 Json robot_of(const RobotDesc& r) {
   const ChassisDesc& c = r.chassis;
   Json body = {{"shape", "box"}, {"size", vec3(c.size_m)}};
   Json geoms = Json::array();
-  geoms.push_back({{"part", "chassis"}, {"shape", "box"}, {"pos", vec3(0, 0, 0)}, {"quat", quat(1, 0, 0, 0)},
-                   {"size", vec3(c.size_m)}});
+  if (c.shape == ChassisDesc::Shape::Parts) {
+    for (const ShapeDesc& part : c.parts) {
+      Json g = shape_of(part);
+      g["part"] = "chassis";
+      geoms.push_back(std::move(g));
+    }
+  } else {
+    geoms.push_back({{"part", "chassis"}, {"shape", "box"}, {"pos", vec3(0, 0, 0)}, {"quat", quat(1, 0, 0, 0)},
+                     {"size", vec3(c.size_m)}});
+  }
+  // A URDF's visuals, each on its body: -1 the chassis, else the wheel of that index.
+  Json visuals = Json::array();
+  for (const auto& v : r.urdf.visuals) {
+    Json o = shape_of(v.shape);
+    o["body"] = v.body;
+    o["link"] = v.link;
+    o["rgba"] = {v.rgba[0], v.rgba[1], v.rgba[2], v.rgba[3]};
+    visuals.push_back(std::move(o));
+  }
   for (const CasterDesc& k : r.casters)
     geoms.push_back({{"part", "caster"}, {"shape", "sphere"}, {"pos", vec3(k.position_m)}, {"quat", quat(1, 0, 0, 0)},
                      {"radius", round_mm(k.radius_m)}});
@@ -211,8 +253,10 @@ Json robot_of(const RobotDesc& r) {
       devices.push_back({{"name", w.servo}, {"element", "servo"}, {"wiring", "pin " + std::to_string(w.pin)}});
     mcus.push_back({{"id", id}, {"console_uart", m.console_uart}, {"devices", std::move(devices)}});
   }
-  return {{"name", r.name},     {"keyboard", r.mcus.empty()}, {"body", std::move(body)},       {"geoms", std::move(geoms)},
-          {"wheels", wheels}, {"sensors", std::move(sensors)}, {"mcus", std::move(mcus)}};
+  Json robot = {{"name", r.name},     {"keyboard", r.mcus.empty()}, {"body", std::move(body)},       {"geoms", std::move(geoms)},
+                {"wheels", wheels}, {"sensors", std::move(sensors)}, {"mcus", std::move(mcus)}};
+  if (!visuals.empty()) robot["visuals"] = std::move(visuals);
+  return robot;
 }
 
 }  // namespace

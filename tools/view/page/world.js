@@ -146,14 +146,30 @@ var SEAR = window.SEAR || (window.SEAR = {});
       var colour = SEAR.ROBOT_COLOURS[i % SEAR.ROBOT_COLOURS.length];
       var group = new THREE.Group();
       var size = (r.body && r.body.size) || [0.3, 0.2, 0.08];
-      // Unlit, so the robot keeps one colour whatever the light (the tests look for it).
-      group.add(new THREE.Mesh(new THREE.BoxBufferGeometry(size[0], size[1], size[2]),
-                               new THREE.MeshBasicMaterial({ color: colour })));
-      // A dark nose shows which way is forward.
-      var nose = new THREE.Mesh(new THREE.BoxBufferGeometry(size[0] * 0.15, size[1] * 0.6, size[2] * 0.3),
-                                new THREE.MeshBasicMaterial({ color: 0x202020 }));
-      nose.position.set(size[0] * 0.45, 0, size[2] * 0.55);
-      group.add(nose);
+      // A URDF robot brings its own visuals, each on its body (-1: the chassis, else a wheel).
+      var visuals = r.visuals || [];
+      function visualMesh(v) {
+        var g = shapeGeometry(v);
+        if (!g) return null;
+        var c = v.rgba || [0.7, 0.7, 0.7, 1];
+        return place(new THREE.Mesh(g, new THREE.MeshLambertMaterial({
+          color: new THREE.Color(c[0], c[1], c[2]), transparent: c[3] < 1, opacity: c[3] })), v);
+      }
+      if (visuals.length) {
+        visuals.forEach(function (v) {
+          var m = v.body === -1 ? visualMesh(v) : null;
+          if (m) group.add(m);
+        });
+      } else {
+        // Unlit, so the robot keeps one colour whatever the light (the tests look for it).
+        group.add(new THREE.Mesh(new THREE.BoxBufferGeometry(size[0], size[1], size[2]),
+                                 new THREE.MeshBasicMaterial({ color: colour })));
+        // A dark nose shows which way is forward.
+        var nose = new THREE.Mesh(new THREE.BoxBufferGeometry(size[0] * 0.15, size[1] * 0.6, size[2] * 0.3),
+                                  new THREE.MeshBasicMaterial({ color: 0x202020 }));
+        nose.position.set(size[0] * 0.45, 0, size[2] * 0.55);
+        group.add(nose);
+      }
       // The physics shapes (chassis, wheels, treads, casters) as the scene gives them, in the
       // robot's frame: they ride with the chassis.
       var wires = new THREE.Group();
@@ -162,7 +178,14 @@ var SEAR = window.SEAR || (window.SEAR = {});
         if (g) wires.add(place(wireframe(g), s));
       });
       physicsRoot.add(wires);
-      var wheels = (r.wheels || []).map(function (w) {
+      var wheels = (r.wheels || []).map(function (w, index) {
+        var own = visuals.filter(function (v) { return v.body === index; });
+        if (own.length) {
+          var body = new THREE.Group();
+          own.forEach(function (v) { var m = visualMesh(v); if (m) body.add(m); });
+          root.add(body);
+          return { mesh: body };
+        }
         var g = new THREE.CylinderBufferGeometry(w.radius, w.radius, w.width, 20);
         g.rotateX(Math.PI / 2);  // the wheel body's axle is its z, as ODE's cylinder
         var m = new THREE.Mesh(g, new THREE.MeshLambertMaterial({ color: 0x1a1a1a }));

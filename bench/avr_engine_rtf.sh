@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# The AVR engine against the native one on the same project: runs the obstacle avoider
+# (assets/projects/avoider_hills.xml) with `sear run --engine native` and `--engine avr`, and
+# prints per engine the median over RUNS runs of the stepping loop's wall-clock real-time factor
+# (summary.json's real_time_factor) and, for the AVR engine, the simulated MHz per host second
+# (RTF x the MCU's clock: the avoider's ATmega2560 runs at 16 MHz) and its CPU load as the engine
+# measured it (summary.json's avr_engines). Target (issue 20): at least 4x real time at 16 MHz.
+#
+# Usage: bench/avr_engine_rtf.sh [path/to/sear]   (default: build-release/tools/sear, else build/tools/sear)
+# Environment: RUNS (3), DURATION simulated seconds per run (20), ROOT the source tree.
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+ROOT=${ROOT:-$(dirname "$here")}
+sear=${1:-}
+if [[ -z $sear ]]; then
+  for candidate in "$ROOT/build-release/tools/sear" "$ROOT/build/tools/sear"; do
+    [[ -x $candidate ]] && { sear=$candidate; break; }
+  done
+fi
+[[ -x ${sear:-} ]] || { echo "avr_engine_rtf.sh: no sear binary (give its path)" >&2; exit 2; }
+RUNS=${RUNS:-3}
+DURATION=${DURATION:-20}
+work=$(mktemp -d /tmp/sear-avr-rtf.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+
+median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+
+printf '%-8s %10s %14s %10s %8s\n' engine rtf sim_MHz/s cpu_load load
+for engine in native avr; do
+  : >"$work/rtf"
+  load=$(cut -d' ' -f1 /proc/loadavg)
+  for run in $(seq "$RUNS"); do
+    out="$work/$engine-$run"
+    "$sear" run "$ROOT/assets/projects/avoider_hills.xml" --engine "$engine" --duration "$DURATION" --quiet \
+      --no-plots -o "$out" >/dev/null
+    python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["real_time_factor"])' "$out/summary.json" >>"$work/rtf"
+  done
+  rtf=$(median <"$work/rtf")
+  if [[ $engine == avr ]]; then
+    mhz=$(awk -v r="$rtf" 'BEGIN {printf "%.1f", r * 16}')
+    cpu=$(python3 -c 'import json, sys; print("%.3f" % json.load(open(sys.argv[1]))["avr_engines"]["rover.main"]["cpu_load"])' \
+      "$work/avr-1/summary.json")
+  else
+    mhz=-
+    cpu=-
+  fi
+  printf '%-8s %10.2f %14s %10s %8s\n' "$engine" "$rtf" "$mhz" "$cpu" "$load"
+done

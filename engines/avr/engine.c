@@ -1,0 +1,334 @@
+/* sear-avr-engine: the AVR image that would be flashed, run instruction by instruction on
+ * libsimavr's ATmega2560 as another firmware side of the lockstep link (DESIGN.md). The simulator
+ * starts it in place of a native firmware: `sear-avr-engine --clock-hz HZ FIRMWARE.elf`, with the
+ * link as for any firmware. Each quantum is an exact number of cycles; samples, received bytes
+ * and device events are applied at the cycle they fall due, and what the chip does comes back as
+ * the same events a native firmware makes. */
+#define _GNU_SOURCE
+#include "engine.h"
+
+#include <inttypes.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <sim_avr.h>
+#include <sim_elf.h>
+#include <avr_extint.h>
+
+#include "devices.h"
+#include "lockstep_handoff.h"
+#include "profile.h"
+#include "readings.h"
+
+struct engine engine;
+
+/* Spinning this long covers a physics step; beyond it the simulator is busy elsewhere. */
+#define SPIN_NS 200000
+/* The longest stretch the chip runs without a look at its timer outputs: PWM duty and servo
+ * pulses are read from registers (simavr 1.6 gives no PWM pin edges), so a change is stamped
+ * at most this late; 1024 cycles are 64 us at 16 MHz. */
+#define SLICE_CYCLES 1024u
+
+static pid_t simulator;
+static uint64_t slice_end_cycle;
+static char last_error[160]; /* simavr's last complaint, for the crash report */
+
+int64_t engine_ns_of_cycle(uint64_t cycle) {
+  const uint64_t f = engine.clock_hz;
+  return (int64_t)(cycle / f * 1000000000u + cycle % f * 1000000000u / f);
+}
+
+uint64_t engine_cycle_at_or_after(int64_t t_ns) {
+  if (t_ns <= 0) return 0;
+  const uint64_t t = (uint64_t)t_ns, f = engine.clock_hz;
+  const uint64_t whole = t / 1000000000u, part = t % 1000000000u;
+  return whole * f + (part * f + 999999999u) / 1000000000u;
+}
+
+int64_t engine_now_ns(void) {
+  const int64_t t = engine_ns_of_cycle(engine.avr->cycle);
+  if (t > engine.quantum_end_ns) return engine.quantum_end_ns;
+  return t < engine.turn_start_ns ? engine.turn_start_ns : t;
+}
+
+static void wait_for_turn(void) {
+  struct sear_link *link = engine.link;
+  while (!sear_handoff_wait(&link->turn, SEAR_TURN_FIRMWARE, &link->firmware_waiting, SPIN_NS, 1000000000))
+    if (getppid() != simulator) _exit(3);
+}
+
+static void hand_over(enum sear_request request) {
+  struct sear_link *link = engine.link;
+  link->request = (uint32_t)request;
+  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
+  wait_for_turn();
+}
+
+void engine_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns) {
+  struct sear_link *link = engine.link;
+  if (link->event_count >= SEAR_LINK_MAX_EVENTS) hand_over(SEAR_REQUEST_DRAIN);
+  struct sear_event *e = &link->events[link->event_count];
+  e->time_ns = time_ns;
+  e->value = value;
+  e->kind = (uint8_t)kind;
+  e->index = index;
+  __atomic_store_n(&link->event_count, link->event_count + 1, __ATOMIC_RELEASE);
+}
+
+void engine_fatal(const char *format, ...) {
+  struct sear_link *link = engine.link;
+  va_list args;
+  va_start(args, format);
+  vsnprintf(link->fatal, sizeof link->fatal, format, args);
+  va_end(args);
+  fprintf(stderr, "sear-avr-engine: %s\n", link->fatal);
+  link->request = SEAR_REQUEST_FATAL;
+  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
+  _exit(70);
+}
+
+/* simavr's messages go to the host log; its last error names what a crash was. */
+static void logger(avr_t *avr, const int level, const char *format, va_list ap) {
+  (void)avr;
+  if (level > LOG_WARNING) return;
+  va_list copy;
+  va_copy(copy, ap);
+  if (level <= LOG_ERROR) {
+    vsnprintf(last_error, sizeof last_error, format, copy);
+    last_error[strcspn(last_error, "\n")] = 0;
+  }
+  va_end(copy);
+  vfprintf(stderr, format, ap);
+}
+
+/* The CPU never sleeps on the host's clock: a sleeping chip's cycles jump to its next timer
+ * (at the latest the slice's end), which the core does itself after this returns. */
+static void no_sleep(avr_t *avr, avr_cycle_count_t how_long) {
+  (void)avr;
+  avr_profile_sleep(how_long + 1); /* what the core adds to its cycle count after this */
+}
+
+static avr_cycle_count_t slice_ends(avr_t *avr, avr_cycle_count_t when, void *param) {
+  (void)avr;
+  (void)when;
+  (void)param;
+  return 0;
+}
+
+static void set_slice_end(uint64_t cycle) {
+  slice_end_cycle = cycle;
+  avr_cycle_timer_cancel(engine.avr, slice_ends, NULL);
+  const uint64_t now = engine.avr->cycle;
+  avr_cycle_timer_register(engine.avr, cycle > now ? cycle - now : 1, slice_ends, NULL);
+}
+
+/* A device's next event falls within the running slice: end the slice there. */
+void board_device_event_at(int64_t t_ns) {
+  const uint64_t c = engine_cycle_at_or_after(t_ns);
+  if (c < slice_end_cycle) set_slice_end(c > engine.avr->cycle ? c : engine.avr->cycle + 1);
+}
+
+static uint16_t stack_pointer(void) {
+  return (uint16_t)(engine.avr->data[R_SPL] | engine.avr->data[R_SPH] << 8);
+}
+
+/* What the chip did when simavr stopped it, in the chip's terms. simavr stops the core on a
+ * jump past the program, on a jump to the reset vector (a watchdog reset comes this way too),
+ * and on a stack pointer past RAMEND. */
+static void check_state(int state) {
+  avr_t *avr = engine.avr;
+  const unsigned pc = (unsigned)avr->pc;
+  const uint64_t cycle = avr->cycle;
+  if (state == cpu_Done)
+    engine_fatal("the ATmega2560 halted: sleep with interrupts off (cli; sleep) at pc 0x%05x, cycle %" PRIu64, pc, cycle);
+  if (pc >= avr->codeend)
+    engine_fatal("the ATmega2560 jumped into nowhere: pc 0x%05x is past the program's end at 0x%05x (cycle %" PRIu64 ")",
+                 pc, (unsigned)avr->codeend, cycle);
+  if (stack_pointer() > avr->ramend)
+    engine_fatal("the ATmega2560's stack pointer 0x%04x is past RAMEND 0x%04x (cycle %" PRIu64 ")", stack_pointer(),
+                 (unsigned)avr->ramend, cycle);
+  if (pc == 0)
+    engine_fatal("the ATmega2560 reset itself (a jump to the reset vector, or its watchdog) at cycle %" PRIu64, cycle);
+  engine_fatal("the ATmega2560 crashed at pc 0x%05x, cycle %" PRIu64 ": %s", pc, cycle,
+               last_error[0] ? last_error : "simavr stopped the core");
+}
+
+/* Resets after start-up (the watchdog's, in simavr, come through the core's reset hook). A
+ * firmware the watchdog resets again and again never gets anywhere: three are a reset loop. */
+#define RESET_LOOP 3
+static unsigned resets, resets_seen;
+static void (*core_reset)(avr_t *avr);
+
+static void on_reset(avr_t *avr) {
+  if (core_reset) core_reset(avr);
+  resets++;
+}
+
+static void check_resets(void) {
+  resets_seen = resets;
+  fprintf(stderr, "sear-avr-engine: the ATmega2560 reset at cycle %" PRIu64 "\n", (uint64_t)engine.avr->cycle);
+  if (resets >= RESET_LOOP)
+    engine_fatal("the ATmega2560 is in a reset loop: reset %u times, the last at cycle %" PRIu64 " (its watchdog?)",
+                 resets, (uint64_t)engine.avr->cycle);
+}
+
+static void run_to(uint64_t cycle) {
+  avr_t *avr = engine.avr;
+  set_slice_end(cycle);
+  while (avr->cycle < slice_end_cycle) {
+    const uint32_t pc = avr->pc;
+    const uint64_t before = avr->cycle;
+    const int state = avr_run(avr);
+    avr_profile_count(pc, avr->cycle - before);
+    /* Past the image is erased flash, which the chip would run through to a reset. */
+    if (avr->pc >= engine.code_end)
+      engine_fatal("the ATmega2560 jumped into nowhere: pc 0x%05x is past the program's end at 0x%05x (from pc 0x%05x, "
+                   "cycle %" PRIu64 ")",
+                   (unsigned)avr->pc, engine.code_end, pc, (uint64_t)avr->cycle);
+    if (state != cpu_Running && state != cpu_Sleeping) check_state(state);
+    if (resets != resets_seen) check_resets();
+    /* The stack grows down towards .data and .bss: past their end it overwrites globals. */
+    const uint16_t sp = stack_pointer();
+    if (sp < engine.lowest_sp) {
+      engine.lowest_sp = sp;
+      if (sp < engine.bss_end)
+        engine_fatal("the ATmega2560's stack ran into .bss: SP 0x%04x is below __bss_end 0x%04x (pc 0x%05x, cycle %" PRIu64
+                     ")",
+                     sp, engine.bss_end, (unsigned)avr->pc, (uint64_t)avr->cycle);
+    }
+  }
+}
+
+static int64_t min64(int64_t a, int64_t b) { return a < b ? a : b; }
+
+/* One quantum: everything due is applied at its cycle, the chip runs between. */
+static void run_quantum(void) {
+  struct sear_link *link = engine.link;
+  uint32_t sample_next = 0;
+  const uint32_t samples = link->sample_count < SEAR_LINK_MAX_SAMPLES ? link->sample_count : SEAR_LINK_MAX_SAMPLES;
+  for (;;) {
+    const int64_t now = engine_ns_of_cycle(engine.avr->cycle);
+    while (sample_next < samples && link->samples[sample_next].time_ns <= now)
+      mcu_devices_sample(&link->samples[sample_next++]);
+    mcu_devices_run_due(now);
+    avr_usarts_run_due(now);
+    if (engine.avr->cycle >= engine.quantum_end_cycle) break;
+    int64_t next = engine.quantum_end_ns;
+    if (sample_next < samples) next = min64(next, link->samples[sample_next].time_ns);
+    next = min64(next, mcu_devices_next_event());
+    next = min64(next, avr_usarts_next_ns());
+    uint64_t until = engine_cycle_at_or_after(next);
+    if (until > engine.quantum_end_cycle) until = engine.quantum_end_cycle;
+    if (until <= engine.avr->cycle) until = engine.avr->cycle + 1;
+    if (until - engine.avr->cycle > SLICE_CYCLES) until = engine.avr->cycle + SLICE_CYCLES;
+    run_to(until);
+    avr_pins_poll_pwm();
+  }
+}
+
+static void attach_link(void) {
+  const char *fd_text = getenv(SEAR_LINK_FD_ENV);
+  if (!fd_text) {
+    fprintf(stderr, "sear-avr-engine runs an AVR image inside the SEAR simulator: start it through a project "
+                    "whose <mcu> says engine=\"avr\", with `sear run PROJECT`.\n");
+    _exit(2);
+  }
+  const int fd = atoi(fd_text);
+  void *page = mmap(NULL, sizeof(struct sear_link), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  if (page == MAP_FAILED) {
+    perror("sear-avr-engine: mapping the lockstep link");
+    _exit(2);
+  }
+  close(fd);
+  engine.link = page;
+  if (engine.link->magic != SEAR_LINK_MAGIC || engine.link->version != SEAR_LINK_VERSION) {
+    fprintf(stderr, "sear-avr-engine: this engine does not match the simulator's link; rebuild it\n");
+    _exit(2);
+  }
+  const char *sim_pid = getenv(SEAR_SIM_PID_ENV);
+  simulator = sim_pid ? (pid_t)atol(sim_pid) : getppid();
+}
+
+/* Debian's simavr 1.6 reads ADC channels 8..15 wrongly (fixed in 1.7): refused rather than
+ * answered with the wrong channel's volts. */
+static void refuse_high_adc_channels(void) {
+  static const uint8_t adc_slot[SEAR_INPUT_KIND_END] = {[SEAR_INPUT_GP2D12] = 1, [SEAR_INPUT_MAXBOTIX] = 1};
+  const struct sear_link *link = engine.link;
+  for (uint32_t i = 0; i < link->input_count && i < SEAR_LINK_MAX_INPUTS; ++i) {
+    const uint32_t kind = link->inputs[i].kind;
+    if (kind < SEAR_INPUT_KIND_END && adc_slot[kind] && link->inputs[i].pins[0] >= 8 &&
+        link->inputs[i].pins[0] < SEAR_LINK_ADC_CHANNELS)
+      engine_fatal("ADC channel %u (A%u) on engine avr: simavr 1.6 reads channels 8..15 wrongly; wire the "
+                   "sensor to A0..A7 or use the native engine",
+                   link->inputs[i].pins[0], link->inputs[i].pins[0]);
+  }
+}
+
+static void load_chip(const char *elf_path, const char *report_path) {
+  static elf_firmware_t firmware; /* its symbols stay in use for the report */
+  memset(&firmware, 0, sizeof firmware);
+  if (elf_read_firmware(elf_path, &firmware) != 0) engine_fatal("cannot read the AVR image %s", elf_path);
+  avr_t *avr = avr_make_mcu_by_name("atmega2560");
+  if (!avr) engine_fatal("libsimavr has no ATmega2560");
+  avr_init(avr);
+  avr_load_firmware(avr, &firmware);
+  /* .data and .bss from the start of the ATmega2560's SRAM at 0x200 (datasheet figure 8-2). */
+  engine.bss_end = (uint16_t)(0x200u + firmware.datasize + firmware.bsssize);
+  engine.lowest_sp = (uint16_t)avr->ramend;
+  engine.code_end = firmware.flashbase + firmware.flashsize;
+  avr->frequency = (uint32_t)engine.clock_hz;
+  avr->vcc = avr->avcc = (uint32_t)(engine.link->avcc_v * 1000.0 + 0.5);
+  avr->aref = (uint32_t)(engine.link->aref_v * 1000.0 + 0.5);
+  avr->sleep = no_sleep;
+  avr->log = LOG_ERROR;
+  /* simavr 1.6 polls level-triggered external interrupts every cycle even when they are
+   * disabled (simavr #465); the chip only does so once INTn is enabled, which the extint module
+   * still honours without strict triggering. */
+  for (uint8_t n = 0; n < 8; ++n) avr_extint_set_strict_lvl_trig(avr, n, 0);
+  core_reset = avr->reset;
+  avr->reset = on_reset;
+  engine.avr = avr;
+  avr_profile_init(report_path, &firmware);
+}
+
+int main(int argc, char **argv) {
+  const char *elf = NULL, *report = NULL;
+  double clock_hz = 16e6;
+  for (int i = 1; i < argc; ++i) {
+    if (strcmp(argv[i], "--clock-hz") == 0 && i + 1 < argc) clock_hz = atof(argv[++i]);
+    else if (strcmp(argv[i], "--report") == 0 && i + 1 < argc) report = argv[++i];
+    else elf = argv[i];
+  }
+  setvbuf(stdout, NULL, _IONBF, 0);
+  attach_link();
+  if (!elf) engine_fatal("sear-avr-engine: no AVR image named (usage: sear-avr-engine --clock-hz HZ FIRMWARE.elf)");
+  if (!(clock_hz >= 1e5 && clock_hz <= 32e6)) engine_fatal("--clock-hz %g: the ATmega2560 runs at up to 16 MHz", clock_hz);
+  engine.clock_hz = (uint64_t)clock_hz;
+  avr_global_logger_set(logger);
+  refuse_high_adc_channels();
+  load_chip(elf, report);
+  mcu_devices_init(engine.link);
+  avr_pins_init();
+  avr_usarts_init();
+  avr_buses_init();
+  wait_for_turn();
+  uint64_t quanta = 0;
+  for (;;) {
+    struct sear_link *link = engine.link;
+    engine.turn_start_ns = link->clock_ns;
+    engine.quantum_end_ns = link->quantum_end_ns;
+    engine.quantum_end_cycle = engine_cycle_at_or_after(link->quantum_end_ns);
+    avr_usarts_take_quantum();
+    run_quantum();
+    mcu_readings_publish();
+    /* Every tenth quantum (10 ms at the default step): the report is read after the run, and the
+     * engine is stopped without warning, so it is kept nearly current at little cost. */
+    if (++quanta % 10 == 0) avr_profile_write();
+    link->clock_ns = engine.quantum_end_ns;
+    hand_over(SEAR_REQUEST_QUANTUM_DONE);
+  }
+}

@@ -1,0 +1,30 @@
+/* What the AVR engine measures that the native engine cannot: CPU load (cycles not asleep), each
+ * interrupt vector's entries, cycles and latency (pending to running), the functions that took
+ * the most cycles (by the ELF's symbols), and the deepest the stack went. Kept in memory and
+ * written as JSON into a file the simulator reads at the run's end (sear run puts it in its output
+ * folder as ROBOT.MCU.avr.json). */
+#ifndef SEAR_ENGINES_AVR_PROFILE_H
+#define SEAR_ENGINES_AVR_PROFILE_H
+
+#include <stdint.h>
+
+struct elf_firmware_t;
+
+/* `path` may be NULL: nothing is written. */
+void avr_profile_init(const char *path, const struct elf_firmware_t *firmware);
+/* The instruction at byte address pc took `cycles`. */
+static inline void avr_profile_count(uint32_t pc, uint64_t cycles);
+/* The chip slept this many cycles. */
+void avr_profile_sleep(uint64_t cycles);
+/* Rewrites the report (cheap enough to call every few quanta; the simulator kills the engine
+ * without warning, so the file must be current at any quantum's end). */
+void avr_profile_write(void);
+
+extern uint64_t *avr_profile_pc_cycles; /* per flash word */
+extern uint32_t avr_profile_words;
+
+static inline void avr_profile_count(uint32_t pc, uint64_t cycles) {
+  if ((pc >> 1) < avr_profile_words) avr_profile_pc_cycles[pc >> 1] += cycles;
+}
+
+#endif

@@ -1,0 +1,229 @@
+// The AVR engine (engines/avr): register-level firmware of our own runs in lockstep on libsimavr's
+// ATmega2560 and its timing is held to the datasheet's arithmetic at 16 MHz (62.5 ns a cycle);
+// hostile images are reported as the chip would fail; the same run twice gives the same bytes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "devices/sharp_gp2d12.h"
+#include "firmware_run.hpp"
+#include "model_run.hpp"
+
+namespace sear::test {
+namespace {
+
+constexpr double kCycleNs = 1e9 / 16e6;  // 62.5 ns
+
+std::string avr_mcu(const std::string& firmware_sources, const std::string& wiring = "") {
+  return std::string("    <mcu name=\"main\" engine=\"avr\" clock_hz=\"16e6\">\n      <firmware sources=\"") +
+         firmware_sources + "\"/>\n" + wiring + "    </mcu>\n";
+}
+
+std::string test_firmware(const char* name) { return std::string(AVR_TEST_FIRMWARE) + "/" + name; }
+
+// The times of a pin's level changes in the run's VCD (1 ns units), 'z' left out.
+std::vector<std::int64_t> edges(const SearRun& run, int pin) {
+  std::vector<std::int64_t> t;
+  for (const auto& c : vcd_changes(run.file("rover.main.pins.vcd"), vcd_id_of_pin(pin)))
+    if (c.value == '0' || c.value == '1') t.push_back(c.time);
+  return t;
+}
+
+// (time in ns, byte) of each "tx" or "rx" line of a UART log ("S.NNNNNNNNN tx 4c").
+std::vector<std::pair<std::int64_t, int>> uart_bytes(const std::string& log, const std::string& direction) {
+  std::vector<std::pair<std::int64_t, int>> bytes;
+  const std::regex line("^(\\d+)\\.(\\d{9}) " + direction + " ([0-9a-f]{2})$");
+  std::smatch m;
+  for (const auto& l : lines_of(log))
+    if (std::regex_match(l, m, line))
+      bytes.emplace_back(std::stoll(m[1]) * 1000000000 + std::stoll(m[2]), std::stoi(m[3], nullptr, 16));
+  return bytes;
+}
+
+TEST(AvrEngine, Timer1CompareInterruptTogglesAPinEvery16000Cycles) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("timer1_toggle.c")), "", 0.03));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto t = edges(run, 13);
+  // The first change is the pin going out LOW (DDRB); then one toggle per millisecond from the
+  // first compare match on: 29 in 30 ms.
+  ASSERT_GE(t.size(), 29u) << run.file("rover.main.pins.vcd").substr(0, 400);
+  for (std::size_t i = 2; i < t.size(); ++i) {
+    // (OCR1A + 1) * 8 = 16000 cycles = 1 ms. The interrupt is taken after the instruction in
+    // progress (the idle loop's 2-cycle RJMP), so an edge may move by one cycle; the VCD's
+    // nanoseconds are the cycle's time rounded down.
+    EXPECT_NEAR(static_cast<double>(t[i] - t[i - 1]), 1e6, kCycleNs + 1) << "edge " << i;
+  }
+  // What the engine measured (summary.json, avr_engines): the one ISR is TIMER1_COMPA, vector 17
+  // (datasheet table 14-1), entered once per toggle; the chip never sleeps, so it is always busy;
+  // the idle loop spends nearly every cycle in main.
+  const auto report = nlohmann::json::parse(run.file("summary.json"))["avr_engines"]["rover.main"];
+  ASSERT_TRUE(report.is_object()) << run.file("summary.json");
+  EXPECT_EQ(report["cycles"].get<long long>(), 480000);  // 30 ms at 16 MHz, the report's last quantum
+  EXPECT_DOUBLE_EQ(report["cpu_load"].get<double>(), 1.0);
+  ASSERT_EQ(report["isrs"].size(), 1u) << report.dump();
+  EXPECT_EQ(report["isrs"][0]["vector"], 17);
+  EXPECT_EQ(report["isrs"][0]["entries"].get<std::size_t>(), t.size() - 1);
+  // Pending to running: at most the idle loop's RJMP (2 cycles); simavr enters in 0 cycles.
+  EXPECT_LE(report["isrs"][0]["latency_cycles"]["max"].get<int>(), 2);
+  EXPECT_EQ(report["top_functions"][0]["name"], "main");
+  // The ISR's frame: a return address (3 bytes on this 3-byte-PC part) and a few saved registers.
+  EXPECT_GE(report["stack"]["worst_depth_bytes"].get<int>(), 3);
+  EXPECT_LE(report["stack"]["worst_depth_bytes"].get<int>(), 32);
+}
+
+TEST(AvrEngine, AdcFreeRunningInterruptEvery1664CyclesReadsTheRangersVolts) {
+  TempDir dir;
+  // A GP2D12 without noise seeing nothing: its output is the model's for no target.
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("adc_free_running.c"),
+                                                       "      <gp2d12 name=\"ir\" adc=\"0\" pos=\"0.15 0 0.02\" noise_v=\"0\"/>\n"),
+                                               "", 0.05));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto t = edges(run, 12);
+  ASSERT_GE(t.size(), 100u);
+  // Free running: 13 ADC clocks of 128 cycles each (datasheet 26.4) = 1664 cycles = 104 us;
+  // the ISR's entry moves by up to the longest instruction of the idle loop (LDS, 2 cycles).
+  for (std::size_t i = 2; i < t.size(); ++i)
+    EXPECT_NEAR(static_cast<double>(t[i] - t[i - 1]), 104000.0, 2 * kCycleNs + 1) << "conversion " << i;
+  std::smatch m;
+  const std::string console = run.file("rover.main.console.log");
+  ASSERT_TRUE(std::regex_search(console, m, std::regex("adc (\\d{4})"))) << console;
+  const double volts = gp2d12_sample_v(INFINITY, 0, 0, 0.0);
+  // simavr takes the input in whole millivolts: at most 0.5 mV = 0.1 LSB off the volts' code.
+  EXPECT_NEAR(std::stoi(m[1]), static_cast<double>(adc_code(volts, 5.0)), 1.0) << volts << " V";
+}
+
+TEST(AvrEngine, UsartReceiveInterruptEchoesEachByteOneFrameAfterIt) {
+  TempDir dir;
+  std::string capture = "# SEAR UART capture: bytes for the echo, 8N1\n";
+  const char* word = "SEAR";
+  for (int i = 0; i < 4; ++i) {
+    char line[64];
+    std::snprintf(line, sizeof line, "0.%09d tx %02x\n", 10000000 + i * 5000000, word[i]);
+    capture += line;
+  }
+  dir.write("bytes.log", capture);
+  const auto run = run_sear(
+      dir, rover_project(avr_mcu(test_firmware("usart_echo.c"), "      <uart port=\"0\" receive=\"bytes.log\"/>\n"), "",
+                         0.04));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string log = run.file("rover.main.uart0.log");
+  const auto rx = uart_bytes(log, "rx"), tx = uart_bytes(log, "tx");
+  ASSERT_EQ(rx.size(), 4u) << log;
+  ASSERT_EQ(tx.size(), 4u) << log;
+  // UBRR0 = 103: 16 (103 + 1) = 1664 cycles a bit, 10 bits = 16640 cycles = 1.04 ms a frame.
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(rx[i].second, word[i]);
+    EXPECT_EQ(tx[i].second, word[i] + 1);
+    // The byte is written to UDR0 by the ISR a few dozen cycles after RXC: interrupt entry,
+    // prologue, one load and one store; the frame then takes its 1.04 ms exactly.
+    const double after = static_cast<double>(tx[i].first - rx[i].first) - 1040000.0;
+    EXPECT_GE(after, 0.0) << i;
+    EXPECT_LE(after, 64 * kCycleNs) << i;
+  }
+}
+
+TEST(AvrEngine, TwiAndSpiMastersReadTheImusWhoAmIByRegisters) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("imu_registers.c"),
+                                                       "      <mpu6050 name=\"imu_i2c\" address=\"0x68\" pos=\"0 0 0.05\"/>\n"
+                                                       "      <mpu6000 name=\"imu_spi\" cs=\"53\" pos=\"0 0 0.05\"/>\n"),
+                                               "", 0.02));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // WHO_AM_I reads 0x68 on both parts (MPU-6000/6050 register map, register 117).
+  EXPECT_NE(run.file("rover.main.console.log").find("twi 68 spi 68"), std::string::npos)
+      << run.file("rover.main.console.log") << run.file("rover.main.host.log");
+}
+
+TEST(AvrEngine, TheSameRunTwiceGivesTheSameBytes) {
+  TempDir dir;
+  const std::string project =
+      rover_project(avr_mcu(test_firmware("adc_free_running.c"), "      <gp2d12 name=\"ir\" adc=\"0\" pos=\"0.15 0 0.02\"/>\n"),
+                    "", 0.03);
+  TempDir a_dir, b_dir;
+  const auto a = run_sear(a_dir, project), b = run_sear(b_dir, project);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  for (const char* file : {"rover.main.pins.vcd", "rover.main.console.log", "rover.main.uart0.log"})
+    EXPECT_TRUE(a.file(file) == b.file(file)) << file << " differs between two runs";
+}
+
+// The bundled avoider's AVR build, unmodified, in its own world (assets/projects/avoider_hills.xml,
+// as tests/avoider_test.cpp runs it natively): it reports ready, drives, and touches no wall.
+TEST(AvrEngine, TheAvoidersAvrBuildDrivesItsWorldWithoutTouchingAWall) {
+  TempDir dir;
+  const auto out = dir.path() / "out";
+  const std::string cmd = std::string(SEAR_BINARY) + " run " SEAR_ASSET_DIR "/projects/avoider_hills.xml --engine avr " +
+                          "--quiet --duration 20 -o " + out.string() + " 2>" + (dir.path() / "err").string();
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_file(dir.path() / "err");
+  const auto summary = nlohmann::json::parse(read_file(out / "summary.json"));
+  EXPECT_DOUBLE_EQ(summary["sim_time_s"].get<double>(), 20.0);
+  for (const auto& c : summary["collision_events"])
+    EXPECT_EQ(c["other"].get<std::string>().find("_wall"), std::string::npos) << c.dump();
+  // At CRUISE (150/255) the rover makes about 0.5 m/s; 20 s of it, turns and all, is well over 4 m.
+  EXPECT_GT(summary["robots"][0]["distance_m"].get<double>(), 4.0);
+  EXPECT_NE(read_file(out / "rover.main.console.log").find("avoider: ready"), std::string::npos);
+}
+
+// `sear run --cross-check`: the avoider's first 3 s on both engines say and send the same and end
+// within the stated bound of each other (its decisions differ in time by the HAL's cost model
+// against real cycles, about a millisecond, which moves the rover well under a centimetre).
+TEST(AvrEngine, CrossCheckOfTheAvoiderFindsTheEnginesAgree) {
+  TempDir dir;
+  const auto out = dir.path() / "out";
+  const std::string cmd = std::string(SEAR_BINARY) + " run " SEAR_ASSET_DIR "/projects/avoider_hills.xml --cross-check " +
+                          "--quiet --duration 3 -o " + out.string() + " 2>" + (dir.path() / "err").string();
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status)) << read_file(dir.path() / "err");
+  const auto report = nlohmann::json::parse(read_file(out / "cross_check.json"));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << report.dump(2);
+  EXPECT_TRUE(report["differences"].empty()) << report.dump(2);
+  EXPECT_LT(report["robots"]["rover"]["final_distance_m"].get<double>(), report["pose_bound_m"].get<double>());
+  const auto& console = report["consoles"]["rover.main.console.log"];
+  EXPECT_GE(console["lines_alike"].get<int>(), 1);  // "avoider: ready" at least
+  EXPECT_EQ(console["lines_alike"], console["lines_native"]);
+  EXPECT_TRUE(std::filesystem::exists(out / "native" / "summary.json"));
+  EXPECT_TRUE(std::filesystem::exists(out / "avr" / "rover.main.avr.json"));
+}
+
+// A firmware the chip cannot survive stops its MCU with a report saying what the chip did.
+struct Hostile {
+  const char* source;
+  const char* says;
+};
+
+class AvrHostile : public ::testing::TestWithParam<Hostile> {};
+
+TEST_P(AvrHostile, IsReportedAndStopsTheMcu) {
+  TempDir dir;
+  dir.write("hostile.c", GetParam().source);
+  const auto run = run_sear(dir, rover_project(avr_mcu((dir.path() / "hostile.c").string()), "", 0.2));
+  EXPECT_EQ(run.exit_code, 3) << run.err;
+  EXPECT_NE(run.err.find(GetParam().says), std::string::npos) << run.err;
+  const auto summary = nlohmann::json::parse(run.file("summary.json"));
+  EXPECT_EQ(summary["mcu_stops"][0]["mcu"], "rover.main");
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Images, AvrHostile,
+    ::testing::Values(
+        Hostile{"#include <avr/interrupt.h>\n#include <avr/sleep.h>\n"
+                "int main(void) { cli(); sleep_enable(); sleep_cpu(); return 0; }\n",
+                "halted: sleep with interrupts off"},
+        Hostile{"int main(void) { ((void (*)(void))0x7000)(); /* word address: byte 0xE000, far past this program */ return 0; }\n", "jumped into nowhere"},
+        Hostile{"#include <stdint.h>\nvolatile uint8_t sink;\n"
+                "static uint16_t deep(uint16_t n) { volatile uint8_t pad[32]; pad[0] = (uint8_t)n; sink = pad[0];\n"
+                "  return (uint16_t)(deep((uint16_t)(n + 1)) + pad[0]); }\n"
+                "int main(void) { return deep(0); }\n",
+                "stack ran into .bss"},
+        // The watchdog at its shortest (15 ms, datasheet table 12-2) and never reset.
+        Hostile{"#include <avr/wdt.h>\nint main(void) { wdt_enable(WDTO_15MS); for (;;) {} }\n", "reset"}),
+    case_name<Hostile>);
+
+}  // namespace
+}  // namespace sear::test
