@@ -101,4 +101,16 @@ TEST_F(LayerProbe, SameSeedSameBytes) {
   EXPECT_EQ(second.file("rover.main.console.log"), run_->file("rover.main.console.log"));
 }
 
+// The same sketch folder named in the project (<firmware sketch="...">): `sear` preprocesses and
+// builds it itself, and it prints the same bytes as the build CMake made.
+TEST_F(LayerProbe, ASketchFolderInTheProjectRunsAsTheSameFirmware) {
+  TempDir again;
+  std::string p = project(LAYER_PROBE);
+  const std::string exe = std::string("executable=\"") + LAYER_PROBE + "\"";
+  p.replace(p.find(exe), exe.size(), std::string("sketch=\"") + LAYER_PROBE_SKETCH + "/\"");
+  const SearRun run = run_sear(again, p);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.file("rover.main.console.log"), run_->file("rover.main.console.log"));
+}
+
 }  // namespace
