@@ -18,10 +18,12 @@ packages=(
   libsimavr-dev              # the AVR engine (engines/avr) runs AVR images on libsimavr's ATmega2560
   arduino-core-avr arduino-builder  # Arduino sketches: Debian's core (Print, Stream, WString) and the IDE's .ino preprocessing
   gtkwave                    # vcd2fst and fst2vcd read the MCUs' VCD waveforms back in the tests
+  sigrok-cli                 # sigrok's UART decoder reads the USART pins of those waveforms in the tests
   parallel                   # GNU parallel runs `sear test --shard K/N` shards in the tests (and over ssh hosts)
   python3-matplotlib         # draws every run's plots (tools/plots/plot_run.py); without it a run only warns
   chromium chromium-driver python3-selenium python3-pil libjs-three libcivetweb-dev  # the browser viewer: civetweb serves it, three.js draws it, headless chromium tests it
   python3-websocket          # the viewer's tests and bench/view_bench.sh talk to `sear view` as a page would
+  slurm-wlm munge            # scripts/slurm-local.sh: a one-node Slurm runs the `sear test --shard` array job in the tests
   liburdfdom-dev liburdfdom-tools  # URDF robots: urdfdom parses them; the tests hold it against check_urdf
 )
 

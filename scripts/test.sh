@@ -17,6 +17,11 @@ if [ -n "${SEAR_SANITIZE:-}" ]; then
 fi
 cmake -S . -B "$build" "${extra[@]}" >/dev/null
 cmake --build "$build" -j"$jobs"
+# A one-node Slurm for the sharding test's array job, stopped again when this script ends.
+if [ "$(id -u)" -eq 0 ] && slurm_env=$(scripts/slurm-local.sh start "$build/slurm"); then
+  eval "$slurm_env"
+  trap 'scripts/slurm-local.sh stop "$build/slurm"' EXIT
+fi
 ctest --test-dir "$build" --output-on-failure -j"$jobs"
 
 fuzz_seconds=${SEAR_FUZZ_SECONDS:-20}

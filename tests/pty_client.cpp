@@ -1,8 +1,12 @@
 // A host program on a serial port, scripted from its command line, for the pty tests (and for a
 // person poking at a simulated device): it opens the port as PC drivers do and prints, one line
-// each, what it read. Wall-clock timeouts, as a real driver has.
+// each, what it read. Wall-clock timeouts, as a real driver has; or, after trace=FILE, timeouts
+// in the run's own sim time as its trace file says, so that a test waits for what the model
+// does however slowly a busy host runs it.
 //
 //   pty_client PORT STEP...
+//   trace=FILE every time from here on is sim time: the first column of FILE's last row (a run's
+//              trace_ROBOT.csv, flushed row by row); a wait still ends after 60 s of wall time
 //   baud=N     raw 8N1 at N baud (a standard rate), input flushed as a driver does on start
 //   send=HEX   write these bytes
 //   lms=S      read one SICK LMS2xx item within S seconds: prints "ack 06", "nak 15" or
@@ -17,6 +21,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -41,20 +46,51 @@ std::string hex(const std::vector<std::uint8_t>& bytes) {
   return s;
 }
 
+std::string trace_path;  // empty: wall-clock timeouts
+
+// The run's sim time: its trace's last complete row, 0 before there is one.
+double sim_now() {
+  std::FILE* f = std::fopen(trace_path.c_str(), "rb");
+  if (!f) return 0;
+  char tail[4096];
+  std::fseek(f, 0, SEEK_END);
+  const long size = std::ftell(f);
+  const long from = size > static_cast<long>(sizeof tail) ? size - static_cast<long>(sizeof tail) : 0;
+  std::fseek(f, from, SEEK_SET);
+  const std::size_t n = std::fread(tail, 1, sizeof tail, f);
+  std::fclose(f);
+  const std::string text(tail, n);
+  const std::size_t end = text.rfind('\n');
+  if (end == std::string::npos || end == 0) return 0;
+  const std::size_t start = text.rfind('\n', end - 1);
+  const std::string row = text.substr(start == std::string::npos ? 0 : start + 1, end);
+  return row.empty() || row[0] < '0' || row[0] > '9' ? 0 : std::atof(row.c_str());  // the header: 0
+}
+
+struct Deadline {
+  Clock::time_point wall;
+  double sim_s;  // < 0: wall clock only
+};
+
+Deadline after(const std::string& seconds) {
+  const double s = std::atof(seconds.c_str());
+  if (trace_path.empty()) return {Clock::now() + std::chrono::microseconds(static_cast<long long>(s * 1e6)), -1};
+  return {Clock::now() + std::chrono::seconds(60), sim_now() + s};
+}
+
+bool passed(const Deadline& d) { return Clock::now() >= d.wall || (d.sim_s >= 0 && sim_now() >= d.sim_s); }
+
 // One byte, or -1 once the deadline has passed.
-int next_byte(Clock::time_point deadline) {
+int next_byte(const Deadline& deadline) {
   for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-    if (left <= 0) return -1;
+    if (passed(deadline)) return -1;
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline.wall - Clock::now()).count();
     pollfd p{port, POLLIN, 0};
-    if (::poll(&p, 1, static_cast<int>(left)) <= 0) continue;
+    // A sim-time deadline is looked at again every 10 ms (the trace's rows are 100 ms apart).
+    if (::poll(&p, 1, static_cast<int>(deadline.sim_s >= 0 ? std::min<long long>(left, 10) : left)) <= 0) continue;
     std::uint8_t v;
     if (::read(port, &v, 1) == 1) return v;
   }
-}
-
-Clock::time_point after(const std::string& seconds) {
-  return Clock::now() + std::chrono::microseconds(static_cast<long long>(std::atof(seconds.c_str()) * 1e6));
 }
 
 bool open_port(const char* path) {
@@ -107,7 +143,7 @@ void read_lms(const std::string& seconds) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: pty_client PORT [baud=N|send=HEX|lms=S|read=S|reopen|sleep=S]...\n");
+    std::fprintf(stderr, "usage: pty_client PORT [trace=FILE|baud=N|send=HEX|lms=S|read=S|reopen|sleep=S]...\n");
     return 2;
   }
   if (!open_port(argv[1])) return 1;
@@ -115,7 +151,9 @@ int main(int argc, char** argv) {
     const std::string step = argv[i];
     const std::string key = step.substr(0, step.find('='));
     const std::string value = step.find('=') == std::string::npos ? "" : step.substr(step.find('=') + 1);
-    if (key == "baud") {
+    if (key == "trace") {
+      trace_path = value;
+    } else if (key == "baud") {
       termios t{};
       ::tcgetattr(port, &t);
       ::cfmakeraw(&t);
@@ -144,7 +182,8 @@ int main(int argc, char** argv) {
       ::usleep(100000);
       if (!open_port(argv[1])) return 1;
     } else if (key == "sleep") {
-      ::usleep(static_cast<useconds_t>(std::atof(value.c_str()) * 1e6));
+      const Deadline d = after(value);
+      while (!passed(d)) ::usleep(5000);
     } else {
       std::fprintf(stderr, "pty_client: unknown step '%s'\n", step.c_str());
       return 2;

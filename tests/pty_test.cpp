@@ -454,10 +454,12 @@ TEST(PtyRun, GpsdReadsAThreeDFixWithinTheConfiguredError) {
 // 0x20 0x40 (38400) and gets the ACK and the 0xA0 reply at 9600; a request still sent at 9600
 // then goes unanswered (the scanner listens at 38400); at 38400 the scan request 0x30 0x01 gets
 // its ACK and a CRC-correct 0xB0 telegram of 361 values with the wall 2.00 m ahead; and again
-// after the client closed and reopened the port. Paced at --realtime 1: the client's timeouts
-// are wall-clock ones, as a driver's are. An answer takes well under a second of sim time; the
-// client waits up to 3 s for each, so that a loaded machine running the simulation slower than
-// real time still gets them, and the run lasts 8 s to outlive the whole exchange.
+// after the client closed and reopened the port. Paced at --realtime 1, as a user runs a PC
+// driver against it. The client's waits are in the run's sim time (trace=), read from its trace,
+// so that a host too busy to keep up with real time delays the exchange but cannot reorder it:
+// the scanner answers within 1 ms plus the telegram's bytes (a few ms at 9600 baud), the client
+// gives each answer 3 s and a request at the old rate 0.5 s to go unanswered (the scanner hears
+// it at 38400 as garbage, which it ignores), and the run lasts 8 s to outlive the exchange.
 TEST(PtyRun, ClientSwitchesTheLms200To38400AndReadsAScan) {
   TempDir dir;
   // The wall's near face at x = 2.12 m: 2.00 m from the scanner mounted 0.12 m ahead of the centre.
@@ -470,7 +472,8 @@ TEST(PtyRun, ClientSwitchesTheLms200To38400AndReadsAScan) {
   ASSERT_FALSE(pty.empty()) << run.file("stderr");
   const std::string scan = request_hex({0x30, 0x01});
   const std::string out =
-      run_output(std::string(PTY_CLIENT) + " " + pty + " sleep=0.5 baud=9600 send=" + request_hex({0x20, 0x40}) +
+      run_output(std::string(PTY_CLIENT) + " " + pty + " trace=" + (dir.path() / "out/trace_rover.csv").string() +
+                 " sleep=0.5 baud=9600 send=" + request_hex({0x20, 0x40}) +
                  " lms=3 lms=3 send=" + scan + " lms=0.5 baud=38400 send=" + scan + " lms=3 lms=3 reopen send=" + scan +
                  " lms=3 lms=3");
   EXPECT_EQ(run.wait(), 0) << run.file("stderr");

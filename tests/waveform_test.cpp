@@ -1,7 +1,8 @@
-// The per-MCU VCD waveform read back by an independent reader: GTKWave's vcd2fst converts it to
-// FST and fst2vcd writes it out again, and what the firmware did (tests/firmware/waveform_probe.c)
+// The per-MCU VCD waveforms read back by independent readers: GTKWave's vcd2fst converts them to
+// FST and fst2vcd writes them out again, and what the firmware did (tests/firmware/waveform_probe.c)
 // is checked in that round-tripped text: pin levels, PWM duties, servo pulses and UART bytes at
-// the times the firmware's delays and the baud rates put them.
+// the times the firmware's delays and the baud rates put them; sigrok's UART decoder reads the
+// USART pins' frames.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <sstream>
 
 #include "exporters/pin_waveform.hpp"
+#include "command_output.hpp"
 #include "firmware_run.hpp"
 
 extern "C" {
@@ -104,11 +106,13 @@ TEST(Waveform, TheFirmwaresDutiesPulsesAndBytesReadBackThroughGtkwave) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   TempDir again_dir;
   const SearRun again = run_sear(again_dir, read_file(dir.path() / "project.xml"), "--quiet");
-  EXPECT_EQ(again.file("rover.main.pins.vcd"), run.file("rover.main.pins.vcd"));  // deterministic
-  const fs::path vcd = run.dir / "rover.main.pins.vcd";
-  const Waves waves = read_vcd(round_trip(vcd, dir.path()));
-  // The reader kept every change the file holds.
-  EXPECT_EQ(waves, read_vcd(run.file("rover.main.pins.vcd")));
+  for (const char* file : {"rover.main.pins.vcd", "rover.main.values.vcd"}) {
+    EXPECT_EQ(again.file(file), run.file(file));  // deterministic
+    // The reader kept every change the file holds.
+    EXPECT_EQ(read_vcd(round_trip(run.dir / file, dir.path())), read_vcd(run.file(file))) << file;
+  }
+  Waves waves = read_vcd(run.file("rover.main.pins.vcd"));
+  waves.merge(read_vcd(run.file("rover.main.values.vcd")));
 
   // pwm_write(3, ...) every 10 ms from 5 ms; 0 and a digital write are plain levels (duties 0 and
   // 255); an input drives nothing.
@@ -148,16 +152,108 @@ TEST(Waveform, TheFirmwaresDutiesPulsesAndBytesReadBackThroughGtkwave) {
     EXPECT_EQ(waves.at(quiet), (std::vector<Change>{{0, kZ}})) << quiet;
 }
 
+// A byte's frame on its USART pin, as a logic analyser sees it: the line idles high; bit k (0 the
+// start bit, low; 1..8 the data from the least significant; 9 the stop bit, high) of byte n of a
+// burst from `start` begins at start + (10 n + k) bit times, rounded to the nanosecond.
+std::vector<Change> frames(const std::string& sent, std::int64_t start, double baud) {
+  std::vector<Change> edges;
+  int shown = 1;
+  for (std::size_t n = 0; n < sent.size(); ++n)
+    for (int k = 0; k < 10; ++k) {
+      const int level = k == 0 ? 0 : k == 9 ? 1 : (static_cast<std::uint8_t>(sent[n]) >> (k - 1)) & 1;
+      if (level == shown) continue;
+      shown = level;
+      edges.push_back({std::llround(static_cast<double>(start) + (10.0 * static_cast<double>(n) + k) * 1e9 / baud), level});
+    }
+  return edges;
+}
+
+// Each edge within 1 ns of where it is due: the capture places a bit's edge back from the byte's
+// stop-bit end as the HAL rounds that end, each rounding to the nanosecond.
+void expect_edges(const std::vector<Change>& got, const std::vector<Change>& want, const char* pin) {
+  ASSERT_EQ(got.size(), want.size()) << pin;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    EXPECT_NEAR(static_cast<double>(got[i].t), static_cast<double>(want[i].t), 1.0) << pin << " edge " << i;
+    EXPECT_EQ(got[i].value, want[i].value) << pin << " edge " << i;
+  }
+}
+
+// sigrok's UART decoder (sigrok-cli) reading one pin of the VCD as a logic analyser's capture,
+// sampled at 10 MHz (20 samples a bit at 500 kbaud): the bytes it decodes, as hex.
+std::string sigrok_uart(const fs::path& vcd, const std::string& pin, int baud) {
+  const auto run = command_output("sigrok-cli -I vcd:downsample=100 -i " + vcd.string() + " -P uart:rx=" + pin +
+                                  ":baudrate=" + std::to_string(baud) + " -A uart=rx-data 2>&1");
+  std::string bytes;
+  for (const auto& line : lines_of(run.out)) bytes += line.substr(line.find(": ") + 2) + " ";
+  return bytes;
+}
+
+std::string hex_of(const std::string& bytes) {
+  std::string out;
+  char b[4];
+  for (const char c : bytes) {
+    std::snprintf(b, sizeof b, "%02X ", static_cast<std::uint8_t>(c));
+    out += b;
+  }
+  return out;
+}
+
+std::string waveform_probe_mcu(const char* cycles) {
+  return std::string("    <mcu name=\"main\" hal_call_cycles=\"") + cycles + "\">\n      <firmware executable=\"" +
+         WAVEFORM_PROBE + "\"/>\n      <uart port=\"1\" loopback=\"true\"/>\n    </mcu>\n";
+}
+
+// The pins a logic analyser would probe carry the frames of every byte: TX1 (D18) and the
+// looped-back RX1 (D19) "AAB" at 9600 baud from 0 s, TX2 (D16) the 500 kbaud burst from 60 ms,
+// each edge where the frame puts it, and sigrok's UART decoder reads the same bytes off them.
+TEST(Waveform, UartPinsCarryTheirFramesForALogicAnalysersDecoder) {
+  TempDir dir;
+  const SearRun run = run_sear(dir, rover_project(waveform_probe_mcu("0"), "", 0.1), "--quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Waves waves = read_vcd(run.file("rover.main.pins.vcd"));
+  std::vector<Change> tx1{{0, 1}};  // uart_begin at 0: the line idles high
+  for (const Change& c : frames("AAB", 0, 9600)) tx1.push_back(c);
+  // The first edge falls at 0 too, where the idle level was shown: what a viewer shows is the last.
+  tx1.erase(tx1.begin());
+  expect_edges(waves.at("D18"), tx1, "D18");
+  expect_edges(waves.at("D19"), tx1, "D19");
+  std::string burst;
+  for (int i = 0; i < 64; ++i) burst += static_cast<char>(i / 2);
+  std::vector<Change> tx2{{0, kZ}};  // its uart_begin's idle level at 60 ms gives way to the first start bit
+  for (const Change& c : frames(burst, 60 * kMs, 500000)) tx2.push_back(c);
+  expect_edges(waves.at("D16"), tx2, "D16");
+  EXPECT_EQ(waves.at("D1"), (std::vector<Change>{{0, kZ}}));  // UART 0 never began
+  // Written after D4's change at 1.5 ms, the second byte's frame still has its own edges, from
+  // 1.04 ms on: the waveform stays a frame behind the run.
+  EXPECT_EQ(waves.at("D4"), (std::vector<Change>{{0, 0}, {1500000, 1}}));
+
+  if (std::system("command -v sigrok-cli >/dev/null") != 0) {
+    if (std::getenv("CI")) FAIL() << "sigrok-cli is missing (scripts/install-deps.sh installs it)";
+    GTEST_SKIP() << "sigrok-cli is not installed";
+  }
+  // A decoder finds a frame by its start bit's falling edge, so it needs the line idle before the
+  // first; with calls that take no time a port's first byte starts the instant it began. With the
+  // default cost the line idles high for one call, 3.125 us (31 samples at 10 MHz), first.
+  TempDir costed_dir;
+  const SearRun costed = run_sear(costed_dir, rover_project(waveform_probe_mcu("50"), "", 0.1), "--quiet");
+  ASSERT_EQ(costed.exit_code, 0) << costed.err;
+  const fs::path vcd = costed.dir / "rover.main.pins.vcd";
+  EXPECT_EQ(sigrok_uart(vcd, "D18", 9600), "41 41 42 ");
+  EXPECT_EQ(sigrok_uart(vcd, "D19", 9600), "41 41 42 ");
+  EXPECT_EQ(sigrok_uart(vcd, "D16", 500000), hex_of(burst));
+}
+
 // A byte's end is written in time order with the other changes, never past the MCU's stop or the
 // run's end; different bytes back to back join, equal ones and those after an idle bit do not;
 // and a byte that comes sooner than nine bit times after the last (a device sending faster than
 // the port's baud) shows from its own time on, with no end between the two.
 TEST(Waveform, ByteEndsFollowTheClockAndGiveWayToTheNextByte) {
   TempDir dir;
-  const fs::path vcd = dir.path() / "w.vcd";
+  const fs::path vcd = dir.path() / "w.vcd", values = dir.path() / "v.vcd";
   {
-    BoundedFile file(vcd.string(), 1 << 20, vcd_truncation_note(1 << 20));
-    PinWaveform w(file, "r.m");
+    BoundedFile pins_file(vcd.string(), 1 << 20, vcd_truncation_note(1 << 20));
+    BoundedFile values_file(values.string(), 1 << 20, vcd_truncation_note(1 << 20));
+    PinWaveform w(pins_file, values_file, "r.m");
     auto event = [&](std::int64_t t, sear_event_kind kind, int index, std::uint32_t value) {
       sear_event e{};
       e.time_ns = t;
@@ -178,15 +274,16 @@ TEST(Waveform, ByteEndsFollowTheClockAndGiveWayToTheNextByte) {
     event(61000, SEAR_EVENT_UART_RX, 1, 0x12);  // after an idle bit: apart
     w.finish(69999);  // the MCU stopped here: the last byte's end, and the RX 0x56's, are due
   }
-  const Waves waves = read_vcd(round_trip(vcd, dir.path()));
+  Waves waves = read_vcd(round_trip(vcd, dir.path()));
+  waves.merge(read_vcd(round_trip(values, dir.path())));
   EXPECT_EQ(waves.at("uart0_rx"), (std::vector<Change>{{0, kZ}, {10000, 0x55}, {15000, 0x56}, {24000, kZ}}));
   EXPECT_EQ(waves.at("uart0_tx"), (std::vector<Change>{{0, kZ}, {12000, 0xAA}, {21000, kZ}}));
   EXPECT_EQ(waves.at("D5"), (std::vector<Change>{{0, kZ}, {22000, 1}}));
   EXPECT_EQ(waves.at("uart1_rx"),
             (std::vector<Change>{
                 {0, kZ}, {30000, 0x10}, {40000, 0x11}, {49000, kZ}, {50000, 0x11}, {59000, kZ}, {61000, 0x12}}));
-  const std::string text = read_file(vcd);
-  EXPECT_LT(text.find("#21000"), text.find("#22000"));
+  const std::string text = read_file(values);
+  EXPECT_LT(text.find("#21000"), text.find("#30000"));
   EXPECT_EQ(text.find("#70000"), std::string::npos);  // the last byte's end is past the stop
 }
 

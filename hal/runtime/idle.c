@@ -110,6 +110,11 @@ struct watch {
     uint32_t offset, size;
   } component[XSAVE_COMPONENTS];
   char maps[4096];
+  /* Where the check's signals run: their frames hold the interrupted registers and FP state at a
+   * host-timed instant, which on the firmware's own stack an uninitialised local would read next
+   * (startup_memory.c); here they are also out of what the check digests. Room for the largest
+   * XSAVE frame (AMX) and the handlers' own frames. */
+  _Alignas(16) unsigned char signal_stack[64 * 1024];
 };
 
 static struct watch *w;
@@ -526,13 +531,15 @@ void mcu_watch_idle_loops(void) {
   (void)single_threaded();
   (void)same_state(&w->anchor, &w->now);
   w->interval_ns = LOOK_EVERY_NS;
+  const stack_t own_stack = {.ss_sp = w->signal_stack, .ss_flags = 0, .ss_size = sizeof w->signal_stack};
+  if (sigaltstack(&own_stack, NULL) != 0) return;
 
   struct sigaction action;
   memset(&action, 0, sizeof action);
   action.sa_sigaction = on_step;
   sigemptyset(&action.sa_mask);
   sigaddset(&action.sa_mask, SIGVTALRM);
-  action.sa_flags = SA_SIGINFO | SA_RESTART;
+  action.sa_flags = SA_SIGINFO | SA_RESTART | SA_ONSTACK;
   sigaction(SIGTRAP, &action, NULL);
   action.sa_sigaction = on_look;
   sigemptyset(&action.sa_mask);

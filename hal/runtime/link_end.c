@@ -1,6 +1,7 @@
 /* The firmware's end of the lockstep link (see link_end.h). */
 #define _GNU_SOURCE
 #include "link_end.h"
+#include "startup_memory.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -27,6 +28,7 @@ static void wait_for_turn(void) {
   struct sear_link *link = sear_mcu.link;
   while (!sear_handoff_wait(&link->turn, SEAR_TURN_FIRMWARE, &link->firmware_waiting, SPIN_NS, 1000000000))
     if (getppid() != simulator) _exit(3);
+  mcu_paint_after_wait(); /* its dead frames hold host times */
 }
 
 static void hand_over(enum sear_request request) {

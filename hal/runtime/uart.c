@@ -19,9 +19,11 @@ void uart_begin(uint8_t port, uint32_t baud) {
   struct mcu_uart *u = port_of(port, "uart_begin");
   if (baud < 300 || baud > 2000000) mcu_fatal("uart_begin(%u, %lu): baud must be 300..2000000", port, (unsigned long)baud);
   /* Bytes still on their way out leave at the old rate first, as a driver flushes before it
-   * changes the baud register; so the port never holds more than its 66 bytes. */
+   * changes the baud register; so the port never holds more than its 66 bytes. The port runs at
+   * the new rate from the call's own moment, or once the last of them has left: its TX line
+   * idles high from then, so that a logic analyser sees the first start bit fall. */
   if (u->baud && u->last_end_ns > sear_mcu.link->clock_ns) mcu_advance_to(u->last_end_ns);
-  const int64_t start = sear_mcu.link->clock_ns > now ? sear_mcu.link->clock_ns : now;
+  const int64_t start = u->baud && u->last_end_ns > now ? u->last_end_ns : now;
   u->baud = baud;
   u->anchor_ns = start;
   u->burst = 0;

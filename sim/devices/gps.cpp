@@ -133,7 +133,7 @@ std::vector<DeviceParam> gps_params(double ttff_s) {
 
 const DeviceKind& ublox_neo6m_kind() {
   static const DeviceKind kind{
-      "ublox_neo6m", "u-blox NEO-6M GPS: NMEA 0183 at 9600 baud, UBX CFG-PRT/RATE/MSG accepted", Mount::PositionYaw, 0,
+      "ublox_neo6m", "u-blox NEO-6M GPS: NMEA 0183 and UBX NAV at 9600 baud; UBX CFG-PRT/RATE/MSG/NAV5/SBAS, MON-VER and NAV polls answered", Mount::PositionYaw, 0,
       {{"uart", WireKind::UartPort, true, "the UART its TX and RX are wired to"}},
       gps_params(GNSS_DEFAULT_TTFF_S),
       [](const DeviceDesc& d, DeviceHost& h) -> std::unique_ptr<SimDevice> { return std::make_unique<Gps<Ublox>>(d, h); },

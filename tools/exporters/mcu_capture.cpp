@@ -9,6 +9,10 @@
 namespace sear {
 namespace {
 
+// How far the waveform stays behind the released events: a frame of ten bits at 300 baud, the
+// slowest a port runs at (hal/uart.h), so that no byte's start bit comes before what is written.
+constexpr std::int64_t kWaveLagNs = (10 * std::int64_t{1000000000} + 299) / 300;
+
 std::string seconds(std::int64_t ns) { return fmt::format("{}.{:09d}", ns / 1000000000, ns % 1000000000); }
 
 // "S.NNNNNNNNN tx hh\n" into `line`, which has room for it. A port at 500 kbaud writes 50 000 of
@@ -48,7 +52,8 @@ McuCapture::McuCapture(std::string out_dir, std::vector<Mcu> mcus, bool echo, st
     s.mcu = m;
     if (m.console_uart >= 0) s.console = open(m.id + ".console.log", text_truncation_note(max_file_bytes_));
     s.pins = open(m.id + ".pins.vcd", vcd_truncation_note(max_file_bytes_));
-    s.waveform = std::make_unique<PinWaveform>(*s.pins, m.id, m.waveform_uart_bytes);
+    s.values = open(m.id + ".values.vcd", vcd_truncation_note(max_file_bytes_));
+    s.waveform = std::make_unique<PinWaveform>(*s.pins, *s.values, m.id, m.waveform_uart_bytes);
     states_.push_back(std::move(s));
   }
 }
@@ -122,15 +127,89 @@ void McuCapture::release(State& s, std::int64_t until_ns) {
   std::stable_sort(s.pending.begin(), s.pending.end(),
                    [](const sear_event& a, const sear_event& b) { return a.time_ns < b.time_ns; });
   const std::int64_t limit = std::min(until_ns, s.stop_ns);
-  std::size_t n = 0, written = 0;
+  std::size_t n = 0;
   for (; n < s.pending.size() && s.pending[n].time_ns <= until_ns; ++n) {
-    if (s.pending[n].time_ns > limit) continue;
+    if (s.pending[n].time_ns > limit) {
+      keep_unsent(s, s.pending[n]);
+      continue;
+    }
     write_event(s, s.pending[n]);
-    ++written;
+    queue_wave(s, s.pending[n]);
   }
-  // Those written are the first, in time order; at once, as the waveform looks ahead among them.
-  s.waveform->write(s.pending.data(), written);
   s.pending.erase(s.pending.begin(), s.pending.begin() + static_cast<std::ptrdiff_t>(n));
+  write_wave(s, std::min(until_ns - kWaveLagNs, s.stop_ns));
+  if (s.closed_ns < 0 && s.stop_ns <= until_ns) close(s, s.stop_ns, "the MCU stopped");
+}
+
+// A byte on a USART's pin, as a logic analyser sees it: the line falls for the start bit ten bit
+// times before the stop bit ends, then carries the data bits from the least significant, then
+// the stop bit (high); each bit's edge rounded to the nanosecond as the HAL rounds the byte's end.
+void McuCapture::queue_wave(State& s, const sear_event& e) {
+  s.wave_pending.push_back(e);
+  if (e.index >= SEAR_LINK_UARTS) return;
+  if (e.kind == SEAR_EVENT_UART_BEGIN) s.wave_baud[e.index] = e.value;
+  if ((e.kind != SEAR_EVENT_UART_TX && e.kind != SEAR_EVENT_UART_RX) || !s.wave_baud[e.index]) return;
+  const std::uint32_t baud = s.wave_baud[e.index];
+  const int pin = e.kind == SEAR_EVENT_UART_TX ? PinWaveform::uart_tx_pin(e.index) : PinWaveform::uart_rx_pin(e.index);
+  int shown = 1;  // idle
+  for (int bit = 0; bit < 10; ++bit) {
+    const int level = bit == 0 ? 0 : bit == 9 ? 1 : (e.value >> (bit - 1)) & 1;
+    if (level == shown) continue;
+    shown = level;
+    const std::int64_t before_end = ((10 - bit) * std::int64_t{1000000000} + baud / 2) / baud;
+    s.wave_pending.push_back({e.time_ns - before_end, static_cast<std::uint32_t>(level), PinWaveform::kLineLevel,
+                              static_cast<std::uint8_t>(pin), {0, 0}});
+  }
+}
+
+// Writes the queued changes due by until_ns, in time order (stably: the order of equal times is
+// the order they came in); at once, as the waveform looks ahead among them.
+void McuCapture::write_wave(State& s, std::int64_t until_ns) {
+  std::stable_sort(s.wave_pending.begin(), s.wave_pending.end(),
+                   [](const sear_event& a, const sear_event& b) { return a.time_ns < b.time_ns; });
+  std::size_t n = 0;
+  while (n < s.wave_pending.size() && s.wave_pending[n].time_ns <= until_ns) ++n;
+  s.waveform->write(s.wave_pending.data(), n);
+  s.wave_pending.erase(s.wave_pending.begin(), s.wave_pending.begin() + static_cast<std::ptrdiff_t>(n));
+}
+
+void McuCapture::keep_unsent(State& s, const sear_event& e) {
+  if (e.kind == SEAR_EVENT_UART_TX) s.never_sent[e.index].push_back(static_cast<char>(e.value));
+}
+
+// The wire stopped at time_ns: a console line cut short says so, and what was still queued
+// follows on lines of its own, stamped with that time, so that a firmware's last words are read
+// where its other lines are.
+void McuCapture::close(State& s, std::int64_t time_ns, const char* why) {
+  for (const auto& e : s.pending) keep_unsent(s, e);
+  s.pending.clear();
+  s.closed_ns = time_ns;
+  if (s.console && !s.line.empty()) {
+    s.line += fmt::format(" [line not ended: {}]", why);
+    end_line(s, s.line_time);
+  }
+  for (const auto& [port_number, bytes] : s.never_sent) {
+    port(s, port_number)
+        .text->write(fmt::format("# {}: {} bytes queued never sent: {}\n", seconds(time_ns), bytes.size(), why));
+    if (!s.console || port_number != s.mcu.console_uart) continue;
+    std::size_t begin = 0;
+    while (begin < bytes.size()) {
+      const std::size_t end = std::min(bytes.find('\n', begin), bytes.size());
+      std::string text = bytes.substr(begin, end - begin);
+      text.erase(std::remove(text.begin(), text.end(), '\r'), text.end());
+      s.line = "[never sent] " + text;
+      end_line(s, time_ns);
+      begin = end + 1;
+    }
+  }
+}
+
+std::vector<NeverSent> McuCapture::never_sent() const {
+  std::vector<NeverSent> all;
+  for (const auto& s : states_)
+    for (const auto& [port_number, bytes] : s.never_sent)
+      all.push_back({s.mcu.id, port_number, bytes, s.closed_ns, s.stop_ns == s.closed_ns});
+  return all;
 }
 
 // Every step's output reaches the files at once (a flush with nothing new costs no system call),
@@ -144,9 +223,9 @@ void McuCapture::advance_to(std::int64_t now_ns) {
 void McuCapture::finish(std::int64_t end_ns) {
   for (auto& s : states_) {
     release(s, end_ns);
-    s.pending.clear();  // due after the run's end: never on the wire within it
+    if (s.closed_ns < 0) close(s, end_ns, "the run ended");  // what is due later never left within it
+    write_wave(s, std::min(end_ns, s.stop_ns));
     s.waveform->finish(std::min(end_ns, s.stop_ns));
-    if (s.console && !s.line.empty()) end_line(s, s.line_time);
   }
   for (auto* f : all_) f->flush();
 }

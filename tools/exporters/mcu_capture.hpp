@@ -1,11 +1,14 @@
 // What each MCU did on its pins and ports, written to the output folder as the run's time passes:
 // the console log, every UART's traffic (raw and time-stamped), and the pins, PWM duties and UART
-// bytes as a VCD waveform (exporters/pin_waveform.hpp).
+// bytes as VCD waveforms (exporters/pin_waveform.hpp).
 // Events wait until the world's time reaches them (a UART byte is stamped with the end of its
 // stop bit, which may lie quanta ahead), so nothing is stamped after the run's end or after its
-// MCU stopped.
+// MCU stopped. Bytes that were still queued then never reached the wire, as on the chip, but they
+// are not lost: the console ends with them on lines marked "[never sent]", and never_sent() hands
+// them to the summary.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -17,6 +20,15 @@
 #include "runtime/mcu_bridge.hpp"
 
 namespace sear {
+
+// Bytes a firmware had queued on a port that never left it: its MCU stopped, or the run ended.
+struct NeverSent {
+  std::string mcu;  // "robot.mcu"
+  int port;
+  std::string bytes;
+  std::int64_t time_ns;  // when the wire stopped: the MCU's stop or the run's end
+  bool mcu_stopped;      // false: the run ended
+};
 
 class McuCapture : public McuListener {
  public:
@@ -39,6 +51,8 @@ class McuCapture : public McuListener {
   void finish(std::int64_t end_ns);
   // Its files, in the order they were opened, for listing and for reporting those cut short.
   std::vector<const BoundedFile*> outputs() const { return {all_.begin(), all_.end()}; }
+  // Every port's queued bytes that never left, per MCU in order; complete once finish() ran.
+  std::vector<NeverSent> never_sent() const;
 
  private:
   struct PortFiles {
@@ -46,13 +60,19 @@ class McuCapture : public McuListener {
   };
   struct State {
     Mcu mcu;
-    std::unique_ptr<BoundedFile> console, pins;
+    std::unique_ptr<BoundedFile> console, pins, values;
     std::string line;
-    std::unique_ptr<PinWaveform> waveform;  // into `pins`
+    std::unique_ptr<PinWaveform> waveform;  // into `pins` and `values`
     std::int64_t line_time = 0;             // of the console's last byte
     std::int64_t stop_ns = INT64_MAX;
     std::map<int, PortFiles> ports;
     std::vector<sear_event> pending;  // not yet due, in the order they came
+    std::map<int, std::string> never_sent;  // per port
+    std::int64_t closed_ns = -1;            // when its wire stopped: -1 while it runs
+    // Released to the waveform but not yet written: a byte's frame begins ten bits before the
+    // byte is stamped, so the waveform stays that far behind to keep its time in order.
+    std::vector<sear_event> wave_pending;
+    std::array<std::uint32_t, SEAR_LINK_UARTS> wave_baud{};
   };
   std::unique_ptr<BoundedFile> open(const std::string& name, const std::string& note);
   PortFiles& port(State& s, int port);
@@ -60,6 +80,10 @@ class McuCapture : public McuListener {
   void console_byte(State& s, std::int64_t time_ns, std::uint8_t byte);
   void end_line(State& s, std::int64_t time_ns);
   void release(State& s, std::int64_t until_ns);
+  void keep_unsent(State& s, const sear_event& e);
+  void queue_wave(State& s, const sear_event& e);
+  void write_wave(State& s, std::int64_t until_ns);
+  void close(State& s, std::int64_t time_ns, const char* why);
 
   std::string out_dir_;
   bool echo_;

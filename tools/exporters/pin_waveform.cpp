@@ -33,18 +33,32 @@ bool PinWaveform::has_servo(int pin) {
          (pin >= 44 && pin <= 46);
 }
 
-PinWaveform::PinWaveform(BoundedFile& file, const std::string& mcu_id, bool uart_bytes)
-    : file_(file), uart_bytes_(uart_bytes) {
-  std::string header = fmt::format(
-      "$comment SEAR pin levels, PWM duties (0..255), servo pulses (us){} of mcu {} $end\n"
-      "$timescale 1 ns $end\n$scope module {} $end\n",
-      uart_bytes_ ? " and UART bytes" : "", mcu_id, mcu_id);
+int PinWaveform::uart_tx_pin(int port) {
+  static const int pins[kPorts] = {1, 18, 16, 14};
+  return pins[port];
+}
+
+int PinWaveform::uart_rx_pin(int port) {
+  static const int pins[kPorts] = {0, 19, 17, 15};
+  return pins[port];
+}
+
+PinWaveform::PinWaveform(BoundedFile& pins, BoundedFile& values, const std::string& mcu_id, bool uart_bytes)
+    : pins_(pins), values_(values), uart_bytes_(uart_bytes) {
+  const std::string scope = fmt::format("$timescale 1 ns $end\n$scope module {} $end\n", mcu_id);
+  std::string header = fmt::format("$comment SEAR pin levels of mcu {} $end\n", mcu_id) + scope;
   std::string initial;
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) {
     header += fmt::format("$var wire 1 {} D{} $end\n", vcd_id(pin), pin);
     initial += fmt::format("z{}\n", vcd_id(pin));
   }
-  int next = SEAR_LINK_PINS;
+  pins_.file.write(header + "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n" + initial + "$end\n");
+
+  header = fmt::format("$comment SEAR PWM duties (0..255), servo pulses (us){} of mcu {} $end\n",
+                       uart_bytes_ ? " and UART bytes" : "", mcu_id) +
+           scope;
+  initial.clear();
+  int next = 0;
   auto declare = [&](int bits, const std::string& name) {
     std::string id = vcd_id(next++);
     header += fmt::format("$var reg {} {} {} $end\n", bits, id, name);
@@ -61,36 +75,36 @@ PinWaveform::PinWaveform(BoundedFile& file, const std::string& mcu_id, bool uart
     if (has_pwm(pin)) duty_id_[pin] = declare(kPwmBits, fmt::format("D{}_pwm", pin));
     if (has_servo(pin)) servo_id_[pin] = declare(kServoBits, fmt::format("D{}_servo_us", pin));
   }
-  header += "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n" + initial + "$end\n";
-  file_.write(header);
+  values_.file.write(header + "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n" + initial + "$end\n");
 }
 
-void PinWaveform::put(const char* bytes, std::size_t n) {
-  if (text_len_ + n > sizeof text_) flush_text();
-  std::memcpy(text_ + text_len_, bytes, n);
-  text_len_ += n;
+void PinWaveform::put(Stream& stream, const char* bytes, std::size_t n) {
+  if (stream.text_len + n > sizeof stream.text) flush_text(stream);
+  std::memcpy(stream.text + stream.text_len, bytes, n);
+  stream.text_len += n;
 }
 
 // Events reach here sorted by time; a VCD whose time ran backwards would be unreadable, so a
-// change that came late is kept at the latest time written rather than breaking the file.
-void PinWaveform::stamp(std::int64_t time_ns) {
-  end_bytes(time_ns);
-  if (time_ns <= last_ns_) return;
-  last_ns_ = time_ns;
+// change that came late is kept at the latest time written rather than breaking the file. The
+// values' bytes that end by then are written first.
+void PinWaveform::stamp(Stream& stream, std::int64_t time_ns) {
+  if (&stream == &values_) end_bytes(time_ns);
+  if (time_ns <= stream.last_ns) return;
+  stream.last_ns = time_ns;
   char line[24] = "#";
   char* end = std::to_chars(line + 1, line + sizeof line - 1, time_ns).ptr;
   *end++ = '\n';
-  put(line, static_cast<std::size_t>(end - line));
+  put(stream, line, static_cast<std::size_t>(end - line));
 }
 
 void PinWaveform::level(std::int64_t time_ns, int pin, char value) {
-  stamp(time_ns);
+  stamp(pins_, time_ns);
   const char line[3] = {value, static_cast<char>('!' + pin), '\n'};
-  put(line, 3);
+  put(pins_, line, 3);
 }
 
 void PinWaveform::vector(std::int64_t time_ns, const std::string& id, int value) {
-  stamp(time_ns);
+  stamp(values_, time_ns);
   char line[48] = "bz";
   char* end = line + 2;
   // Binary without leading zeros, which a reader extends with zeros (section 18.2.1).
@@ -100,13 +114,13 @@ void PinWaveform::vector(std::int64_t time_ns, const std::string& id, int value)
   std::memcpy(end, id.data(), n);
   end += n;
   *end++ = '\n';
-  put(line, static_cast<std::size_t>(end - line));
+  put(values_, line, static_cast<std::size_t>(end - line));
 }
 
-void PinWaveform::flush_text() {
-  if (!text_len_) return;
-  file_.write(std::string_view(text_, text_len_));
-  text_len_ = 0;
+void PinWaveform::flush_text(Stream& stream) {
+  if (!stream.text_len) return;
+  stream.file.write(std::string_view(stream.text, stream.text_len));
+  stream.text_len = 0;
 }
 
 // Back to back: this frame started at the last one's stop bit end, which with each end rounded
@@ -196,7 +210,14 @@ void PinWaveform::write_one(const sear_event& e) {
       show(e.time_ns, servo_[i], servo_id_[i], value & 4095);
       break;
     case SEAR_EVENT_UART_BEGIN:
-      if (i < kPorts) baud_[i] = e.value;
+      if (i >= kPorts) return;
+      baud_[i] = e.value;
+      // The USART takes both pins over; each line idles high between frames.
+      level(e.time_ns, uart_tx_pin(i), '1');
+      level(e.time_ns, uart_rx_pin(i), '1');
+      break;
+    case kLineLevel:
+      if (i < SEAR_LINK_PINS) level(e.time_ns, i, value ? '1' : '0');
       break;
     case SEAR_EVENT_UART_TX:
     case SEAR_EVENT_UART_RX:
@@ -212,14 +233,16 @@ void PinWaveform::write(const sear_event* events, std::size_t count) {
   // One file write per event, so that a file at its size limit stops within a line or two of it.
   for (ahead_ = events; ahead_ < ahead_end_;) {
     write_one(*ahead_++);
-    flush_text();
+    flush_text(pins_);
+    flush_text(values_);
   }
   ahead_ = ahead_end_ = nullptr;
 }
 
 void PinWaveform::finish(std::int64_t end_ns) {
   end_bytes(end_ns);
-  flush_text();
+  flush_text(pins_);
+  flush_text(values_);
 }
 
 }  // namespace sear

@@ -1,7 +1,11 @@
-// One MCU's pins and ports as a VCD waveform (IEEE 1364 section 18), as a logic analyser would
-// show them: each pin's level, each PWM pin's duty, each servo pin's pulse width, and each UART
-// line's bytes. A VCD declares every variable before its first value, and which pins a firmware
-// drives is known only as it runs, so every pin and port the board has is declared up front.
+// One MCU's pins and ports as VCD waveforms (IEEE 1364 section 18), in two files. The pins, as a
+// logic analyser shows them: each pin's level, a USART's TX and RX pins carrying their frames
+// (start bit, eight data bits from the least significant, stop bit), one-bit wires only, so that
+// sigrok (PulseView, sigrok-cli), whose VCD reader stops at the first multi-bit value, reads them
+// with its protocol decoders. The values, for GTKWave: each PWM pin's duty, each servo pin's pulse
+// width and each UART line's bytes. A VCD declares every variable before its first value, and
+// which pins a firmware drives is known only as it runs, so every pin and port the board has is
+// declared up front.
 #pragma once
 
 #include <array>
@@ -19,12 +23,17 @@ class PinWaveform {
   // (servo pulses): hal/runtime/board.c refuses the rest, and waveform_test checks the two agree.
   static bool has_pwm(int pin);
   static bool has_servo(int pin);
+  // Its USARTs' pins (the Arduino Mega 2560's pinout): TXn and RXn of port n.
+  static int uart_tx_pin(int port);
+  static int uart_rx_pin(int port);
+  // Not a link event: a USART's line level on its pin (index = pin, value = 0/1), for the frames
+  // McuCapture lays out from each byte, so that a logic analyser's UART decoder reads the pins.
+  static constexpr std::uint8_t kLineLevel = 0xF0;
 
-  // Writes the header to `file`, with every pin an input ('z') and nothing on any port at #0.
-  // Without `uart_bytes` the ports are left out: a port streaming at 500 kbaud adds about
-  // 1.2 MB a simulated second (some 23 bytes a byte), which can crowd the pins out of a file
-  // with a size limit.
-  PinWaveform(BoundedFile& file, const std::string& mcu_id, bool uart_bytes = true);
+  // Writes the headers to `pins` and `values`, with every pin an input ('z') and nothing on any
+  // port at #0. Without `uart_bytes` the ports' bytes are left out of the values: a port
+  // streaming at 500 kbaud adds about 1.2 MB a simulated second (some 23 bytes a byte).
+  PinWaveform(BoundedFile& pins, BoundedFile& values, const std::string& mcu_id, bool uart_bytes = true);
 
   // A batch of the MCU's events, in time order with those before, written at once; the kinds
   // the waveform does not show (CAN) are ignored.
@@ -50,7 +59,15 @@ class PinWaveform {
     std::int64_t end_ns = -1;  // when the shown byte returns to 'z'; -1: none pending
   };
 
-  void stamp(std::int64_t time_ns);
+  // One of the two files, with the changes of one event gathered to be written at once.
+  struct Stream {
+    explicit Stream(BoundedFile& f) : file(f) {}
+    BoundedFile& file;
+    std::int64_t last_ns = 0;  // the header's values are at #0
+    char text[512];
+    std::size_t text_len = 0;
+  };
+  void stamp(Stream& stream, std::int64_t time_ns);
   void level(std::int64_t time_ns, int pin, char value);
   void vector(std::int64_t time_ns, const std::string& id, int value);  // value < 0: 'z'
   void show(std::int64_t time_ns, int& shown, const std::string& id, int value);  // if it changed
@@ -59,14 +76,11 @@ class PinWaveform {
   bool joined_ahead(const Line& line) const;
   void byte(std::int64_t time_ns, int port, bool tx, std::uint8_t value);
   void end_bytes(std::int64_t until_ns);
-  void put(const char* bytes, std::size_t n);
-  void flush_text();
+  static void put(Stream& stream, const char* bytes, std::size_t n);
+  static void flush_text(Stream& stream);
 
-  BoundedFile& file_;
+  Stream pins_, values_;
   bool uart_bytes_;
-  std::int64_t last_ns_ = 0;  // the header's values are at #0
-  char text_[512];            // the changes of one event, written at once
-  std::size_t text_len_ = 0;
   std::array<std::string, SEAR_LINK_PINS> duty_id_, servo_id_;  // empty: not such a pin
   std::array<int, SEAR_LINK_PINS> duty_{}, servo_{};            // shown; -1: 'z'
   std::array<bool, SEAR_LINK_PINS> pwm_started_{};              // since the pin last became an output

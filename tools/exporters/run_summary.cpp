@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "exporters/printable_text.hpp"
+
 namespace sear {
 
 namespace {
@@ -42,6 +44,9 @@ std::string summary_text(const Simulation& sim, const RunOutcome& o) {
   for (const auto& c : sim.collisions())
     out += fmt::format("  collision at {:.3f} s: {} hit {}\n", static_cast<double>(c.time_ns) * 1e-9, c.robot, c.other);
   for (const auto& stop : o.mcu_stops) out += fmt::format("  {}\n", describe(stop));
+  for (const auto& n : o.never_sent)
+    out += fmt::format("  mcu {}: {} bytes queued on uart{} never sent ({})\n", n.mcu, n.bytes.size(), n.port,
+                       n.mcu_stopped ? "it stopped" : "the run ended");
   for (const auto& e : o.expectations)
     if (e.verdict != "passed") out += fmt::format("  expectation failed at {:.3f} s: {}: {}\n", e.time_s, e.name, e.seen);
   if (!o.expectations.empty())
@@ -90,13 +95,27 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
     j["collision_events"].push_back(
         {{"time_s", static_cast<double>(c.time_ns) * 1e-9}, {"robot", c.robot}, {"other", c.other}});
   j["mcu_stops"] = nlohmann::ordered_json::array();
-  for (const auto& stop : o.mcu_stops)
+  for (const auto& stop : o.mcu_stops) {
+    // Its last words: per port, what it had queued that never left (bytes as \xNN where not text).
+    nlohmann::ordered_json unsent = nlohmann::ordered_json::object();
+    for (const auto& n : o.never_sent)
+      if (n.mcu == stop.mcu && n.mcu_stopped) unsent[fmt::format("uart{}", n.port)] = printable(n.bytes, true);
     j["mcu_stops"].push_back({{"mcu", stop.mcu},
                               {"kind", kind_name(stop.failure.kind)},
                               {"code", stop.failure.code},
                               {"detail", stop.failure.detail},
                               {"sim_time_s", static_cast<double>(stop.failure.time_ns) * 1e-9},
-                              {"last_hal_call", stop.failure.last_call}});
+                              {"last_hal_call", stop.failure.last_call},
+                              {"never_sent", unsent}});
+  }
+  j["never_sent"] = nlohmann::ordered_json::array();
+  for (const auto& n : o.never_sent)
+    j["never_sent"].push_back({{"mcu", n.mcu},
+                               {"port", n.port},
+                               {"time_s", static_cast<double>(n.time_ns) * 1e-9},
+                               {"why", n.mcu_stopped ? "mcu stopped" : "run ended"},
+                               {"bytes", n.bytes.size()},
+                               {"text", printable(n.bytes, true)}});
   j["truncated_files"] = o.truncated_files;
   j["expectations"] = nlohmann::ordered_json::array();
   for (const auto& e : o.expectations)

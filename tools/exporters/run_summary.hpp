@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "exporters/mcu_capture.hpp"
 #include "runtime/lockstep.hpp"
 #include "runtime/simulation.hpp"
 
@@ -20,6 +21,7 @@ struct RunOutcome {
   double wall_time_s = 0;
   std::string status = "completed";  // or "interrupted", "mcu stopped", "physics failed"
   std::vector<McuStop> mcu_stops;    // firmware that crashed, exited, hung or was refused
+  std::vector<NeverSent> never_sent;  // bytes still queued when an MCU stopped or the run ended
   std::vector<std::string> truncated_files;  // outputs that reached their size limit
   // The run's ends on the host: a device and its pseudo-terminal, a CAN bus and its interface.
   struct HostPort {

@@ -26,16 +26,64 @@ const char* mode_letter(MotorDirection d) {
 }
 }  // namespace
 
+const std::vector<TraceColumn>& trace_columns() {
+  static const std::vector<TraceColumn> columns{
+      {"time_s", TracePer::Robot, "sim time"},
+      {"x_m", TracePer::Robot, "position, world (x east, y north, z up)"},
+      {"y_m", TracePer::Robot, ""},
+      {"z_m", TracePer::Robot, ""},
+      {"roll_rad", TracePer::Robot, "attitude, Z-Y-X Euler angles"},
+      {"pitch_rad", TracePer::Robot, ""},
+      {"yaw_rad", TracePer::Robot, ""},
+      {"vx_mps", TracePer::Robot, "velocity, world"},
+      {"vy_mps", TracePer::Robot, ""},
+      {"vz_mps", TracePer::Robot, ""},
+      {"wx_radps", TracePer::Robot, "angular velocity, world"},
+      {"wy_radps", TracePer::Robot, ""},
+      {"wz_radps", TracePer::Robot, ""},
+      {"forward_mps", TracePer::Robot, "speed along the chassis' x axis"},
+      {"wheel_{}_radps", TracePer::Wheel, "per wheel: spin relative to the chassis, positive rolling forward"},
+      {"motor_{}_duty", TracePer::Motor, "per motor: duty, signed (+ forward, − reverse)"},
+      {"motor_{}_mode", TracePer::Motor, "per motor: F forward, R reverse, B brake, C coast"},
+      {"servo_{}_pulse_us", TracePer::Servo, "per servo: the pulse it is given (µs, 0 for none)"},
+  };
+  return columns;
+}
+
+// "`time_s` sim time; `x_m` `y_m` `z_m` position, ...": columns that share a meaning are named
+// together before it; `<name>` stands for the part's name.
+std::string trace_columns_markdown() {
+  const auto& columns = trace_columns();
+  std::string out;
+  for (std::size_t i = 0; i < columns.size();) {
+    std::size_t end = i + 1;
+    while (end < columns.size() && !*columns[end].meaning) ++end;
+    if (!out.empty()) out += "; ";
+    for (std::size_t k = i; k < end; ++k) {
+      std::string name = columns[k].name;
+      if (const auto at = name.find("{}"); at != std::string::npos) name.replace(at, 2, "<name>");
+      out += fmt::format("`{}` ", name);
+    }
+    out += columns[i].meaning;
+    i = end;
+  }
+  return out + ".";
+}
+
 TraceCsv::TraceCsv(const std::string& folder, const Simulation& sim, std::uint64_t max_file_bytes) {
   for (std::size_t r = 0; r < sim.robot_count(); ++r) {
     const RobotDesc& d = sim.robot(r).desc();
     const std::string path = fmt::format("{}/trace_{}.csv", folder, d.name);
     files_.push_back(std::make_unique<BoundedFile>(path, max_file_bytes, text_truncation_note(max_file_bytes)));
-    std::string header =
-        "time_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad,vx_mps,vy_mps,vz_mps,wx_radps,wy_radps,wz_radps,forward_mps";
-    for (const auto& w : d.wheels) header += fmt::format(",wheel_{}_radps", w.name);
-    for (const auto& m : d.motors) header += fmt::format(",motor_{}_duty,motor_{}_mode", m.name, m.name);
-    for (const auto& s : d.servos) header += fmt::format(",servo_{}_pulse_us", s.name);
+    std::string header;
+    const auto add = [&](TracePer per, const std::string& part) {
+      for (const TraceColumn& c : trace_columns())
+        if (c.per == per) header += (header.empty() ? "" : ",") + fmt::format(fmt::runtime(c.name), part);
+    };
+    add(TracePer::Robot, "");
+    for (const auto& w : d.wheels) add(TracePer::Wheel, w.name);
+    for (const auto& m : d.motors) add(TracePer::Motor, m.name);
+    for (const auto& sv : d.servos) add(TracePer::Servo, sv.name);
     files_.back()->write(header + "\n");
   }
 }

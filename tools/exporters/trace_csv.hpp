@@ -12,6 +12,19 @@
 
 namespace sear {
 
+// One column of the trace, or one per wheel, motor or servo (`{}` in its name stands for the
+// part's name; a part's columns stand together). The one list the header is written from;
+// README's description of the file is generated from it too (trace_columns_markdown) and a test
+// holds README to it.
+enum class TracePer { Robot, Wheel, Motor, Servo };
+struct TraceColumn {
+  const char* name;
+  TracePer per;
+  const char* meaning;  // Markdown; empty: the same as the column before
+};
+const std::vector<TraceColumn>& trace_columns();
+std::string trace_columns_markdown();
+
 class TraceCsv {
  public:
   // Opens `folder`/trace_<robot>.csv for every robot and writes the header lines; no file grows

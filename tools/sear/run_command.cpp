@@ -330,6 +330,7 @@ int run_command(const RunOptions& options) {
     outcome.seed = project->run.seed;
     outcome.wall_time_s = seconds_since(start);
     outcome.mcu_stops = lockstep.stops();
+    outcome.never_sent = capture.never_sent();
     outcome.host_ports = host_ports.final_listing();
     outcome.avr_reports = avr_reports;
     outcome.status = interrupted        ? "interrupted"

@@ -8,23 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "exporters/printable_text.hpp"
+
 namespace sear {
 
 constexpr std::size_t kLogCapacity = 4096;
-
-// A byte of text as the log shows it: printable ASCII (and tab) as is, any other byte as \xNN,
-// so that an entry's text is always valid UTF-8 (a firmware's "21\xb0C" or binary on a console
-// would otherwise make the JSON unwritable).
-inline void append_printable(std::string& out, unsigned char c) {
-  if ((c >= 0x20 && c < 0x7F) || c == '\t') {
-    out += static_cast<char>(c);
-    return;
-  }
-  static const char digits[] = "0123456789ABCDEF";
-  out += "\\x";
-  out += digits[c >> 4];
-  out += digits[c & 15];
-}
 
 struct LogEntry {
   enum class Kind : std::uint8_t { Console, Nmea, Lms, Bytes, Can };

@@ -1,0 +1,36 @@
+// What README says of the outputs is generated from the same lists the code writes them from:
+// the trace's columns, as the header of a run's trace_<robot>.csv has them.
+#include <gtest/gtest.h>
+
+#include "exporters/trace_csv.hpp"
+#include "firmware_run.hpp"
+
+namespace sear::test {
+namespace {
+
+TEST(Docs, ReadmeDescribesTheTraceColumnsAsTheFileHasThem) {
+  const std::string readme = read_file(std::string(SEAR_ASSET_DIR) + "/../README.md");
+  const std::string row = "| `trace_<robot>.csv` | One row per trace period, starting at t = 0: " +
+                          trace_columns_markdown() + " |";
+  EXPECT_NE(readme.find(row), std::string::npos) << "README.md's row for the trace should read\n" << row;
+}
+
+// The header of a real run's trace: the fixed columns in the list's order, then the rover's two
+// wheels and two motors, each motor's duty and mode together.
+TEST(Docs, TheTraceHeaderFollowsTheList) {
+  TempDir dir;
+  const SearRun run = run_sear(dir, rover_project("", "", 0.01), "--quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string header = lines_of(run.file("trace_rover.csv")).at(0);
+  std::string fixed;
+  for (const TraceColumn& c : trace_columns())
+    if (c.per == TracePer::Robot) fixed += std::string(fixed.empty() ? "" : ",") + c.name;
+  EXPECT_EQ(header.substr(0, fixed.size()), fixed);
+  EXPECT_EQ(fixed, "time_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad,vx_mps,vy_mps,vz_mps,wx_radps,wy_radps,wz_radps,"
+                   "forward_mps");
+  EXPECT_EQ(header.substr(fixed.size()),
+            ",wheel_left_radps,wheel_right_radps,motor_left_duty,motor_left_mode,motor_right_duty,motor_right_mode");
+}
+
+}  // namespace
+}  // namespace sear::test
