@@ -53,7 +53,7 @@ std::string non_physical_reason(const MassProperties& m, double size_m) {
   const double gyration = std::sqrt(p.z() / m.mass_kg);
   if (size_m > 0 && gyration > size_m)
     return fmt::format("its radius of gyration sqrt({:.4g} kg*m^2 / {:.4g} kg) = {:.3g} m is larger than the link "
-                       "itself ({:.3g} m across): a placeholder inertia?",
+                       "itself ({:.3g} m across), as a placeholder inertia has",
                        p.z(), m.mass_kg, gyration, size_m);
   return "";
 }
