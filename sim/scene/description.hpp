@@ -268,6 +268,12 @@ struct McuDesc {
   std::string engine = "native";
   std::string firmware_elf;                // engine "avr": the AVR image given, or empty to build it from sources
   std::vector<std::string> firmware_args;  // after the executable's name: the AVR engine's clock and image
+  // How its sources are built, on either engine (<firmware defines includes flags c_std cxx_std>).
+  std::vector<std::string> firmware_defines;   // NAME or NAME=VALUE, each a -D
+  std::vector<std::string> firmware_includes;  // absolute folders, each a -I
+  std::vector<std::string> firmware_flags;     // further compiler flags, as written
+  std::string firmware_c_std;                  // for .c sources; empty: c99 (gnu99 for the AVR HAL's GNU C)
+  std::string firmware_cxx_std;                // for .cpp sources; empty: c++17 (gnu++17 on the AVR)
   std::string firmware_sketch;                 // an Arduino sketch folder (absolute), or empty
   std::vector<std::string> firmware_sketch_libraries;  // the user's Arduino library folders, searched in order
   double clock_hz = 16e6;

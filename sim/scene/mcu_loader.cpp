@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -104,6 +105,52 @@ MotorWiring read_motor_wiring(ElementReader& r) {
   return m;
 }
 
+// How the firmware's sources are built (issue 21): defines, include folders, further flags and the
+// language standards, the same for the native and the AVR build.
+void read_build_flags(ElementReader& r, McuDesc& mcu) {
+  const bool from_sources = !mcu.firmware_sources.empty();
+  for (const char* attribute : {"defines", "includes", "flags", "c_std", "cxx_std"})
+    if (r.has(attribute) && !from_sources)
+      r.error(fmt::format("<firmware> '{}' is for firmware built from its 'sources'", attribute));
+  for (const auto& define : r.names("defines")) {
+    const std::string name = define.substr(0, define.find('='));
+    const bool identifier = !name.empty() && !std::isdigit(static_cast<unsigned char>(name[0])) &&
+                            std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+    if (!identifier) r.error(fmt::format("<firmware> define '{}' is not NAME or NAME=VALUE (NAME a C identifier)", define));
+    else mcu.firmware_defines.push_back(define);
+  }
+  for (const auto& folder : r.names("includes")) {
+    const std::string path = path_beside(r.file(), folder);
+    std::error_code error;
+    if (!std::filesystem::is_directory(path, error))
+      r.error(fmt::format("<firmware> include folder '{}' is not a folder ({})", folder, path));
+    else mcu.firmware_includes.push_back(std::filesystem::absolute(path).lexically_normal().string());
+  }
+  for (const auto& flag : r.names("flags")) {
+    // The builder names the output and the files itself; a flag that did so would break the cache.
+    if (flag.empty() || flag[0] != '-' || flag == "-o" || flag == "-c" || flag.rfind("-std=", 0) == 0 ||
+        flag.rfind("-M", 0) == 0)
+      r.error(fmt::format("<firmware> flag '{}' is not one the builder can pass on (an option starting with '-'; not "
+                          "-o, -c, -M..., and the standard goes in c_std or cxx_std)",
+                          flag));
+    else mcu.firmware_flags.push_back(flag);
+  }
+  if (r.has("c_std")) {
+    mcu.firmware_c_std = r.text("c_std", "");
+    static const char* const known[] = {"c89", "c99", "c11", "c17", "gnu89", "gnu99", "gnu11", "gnu17"};
+    if (std::find(std::begin(known), std::end(known), mcu.firmware_c_std) == std::end(known))
+      r.error(fmt::format("<firmware> c_std '{}' is not one of c89, c99, c11, c17, gnu89, gnu99, gnu11, gnu17",
+                          mcu.firmware_c_std));
+  }
+  if (r.has("cxx_std")) {
+    mcu.firmware_cxx_std = r.text("cxx_std", "");
+    static const char* const known[] = {"c++11", "c++14", "c++17", "c++20", "gnu++11", "gnu++14", "gnu++17", "gnu++20"};
+    if (std::find(std::begin(known), std::end(known), mcu.firmware_cxx_std) == std::end(known))
+      r.error(fmt::format("<firmware> cxx_std '{}' is not one of c++11, c++14, c++17, c++20 (or their gnu++ forms)",
+                          mcu.firmware_cxx_std));
+  }
+}
+
 void read_firmware(ElementReader& r, McuDesc& mcu) {
   if (r.has("sketch")) {
     // An Arduino sketch folder (or its .ino), built against hal/arduino (docs/arduino.md).
@@ -146,15 +193,17 @@ void read_firmware(ElementReader& r, McuDesc& mcu) {
       const std::string path = path_beside(r.file(), source);
       // Each source is compiled on its own with -c: a header or any other file is no source,
       // and headers are found through #include.
-      if (check_readable_file(r, "firmware source", source, path) &&
-          std::filesystem::path(path).extension() != ".c")
-        r.error(fmt::format("<firmware> firmware source '{}' is not a C source (a .c file); headers are found "
-                            "through #include",
+      const std::string ext = std::filesystem::path(path).extension().string();
+      if (check_readable_file(r, "firmware source", source, path) && ext != ".c" && ext != ".cpp" && ext != ".cc" &&
+          ext != ".cxx")
+        r.error(fmt::format("<firmware> firmware source '{}' is not a C or C++ source (.c, .cpp, .cc, .cxx); headers "
+                            "are found through #include",
                             source));
       mcu.firmware_sources.push_back(std::filesystem::absolute(path).lexically_normal().string());
     }
     if (mcu.firmware_sources.empty()) r.error("<firmware> 'sources' names no files");
   }
+  read_build_flags(r, mcu);
   r.finish();
 }
 

@@ -191,6 +191,37 @@ TEST(AvrEngine, CrossCheckOfTheAvoiderFindsTheEnginesAgree) {
   EXPECT_TRUE(std::filesystem::exists(out / "avr" / "rover.main.avr.json"));
 }
 
+// A project's build flags (issue 21): a firmware that needs a define, a header from an include
+// folder, C11 and a C++ source builds and runs on both engines with the flags its <firmware>
+// gives, and without the define fails to build at its #error.
+std::string flags_mcu(const std::string& engine, const std::string& defines) {
+  const std::string dir = test_firmware("flags");
+  return "    <mcu name=\"main\" engine=\"" + engine + "\">\n      <firmware sources=\"" + dir + "/main.c " + dir +
+         "/twice.cpp\" includes=\"" + dir + "/include\" " + defines + " c_std=\"c11\" cxx_std=\"c++14\"/>\n    </mcu>\n";
+}
+
+class BuildFlags : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(BuildFlags, ReachTheCompilerForCAndCppSources) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(flags_mcu(GetParam(), "defines=\"REPEAT=2 UNUSED\""), "", 0.05));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string console = run.file("rover.main.console.log");
+  EXPECT_NE(console.find("flags: hello 0 twice 0"), std::string::npos) << console;
+  EXPECT_NE(console.find("flags: hello 1 twice 2"), std::string::npos) << console;
+  EXPECT_EQ(console.find("flags: hello 2"), std::string::npos) << console;  // REPEAT=2: two lines
+}
+
+TEST_P(BuildFlags, AMissingDefineFailsTheBuildAtItsLine) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(flags_mcu(GetParam(), ""), "", 0.05));
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("main.c:10:"), std::string::npos) << run.err;  // the #error line
+  EXPECT_NE(run.err.find("REPEAT must come from the project"), std::string::npos) << run.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(Engines, BuildFlags, ::testing::Values("native", "avr"));
+
 // A firmware the chip cannot survive stops its MCU with a report saying what the chip did.
 struct Hostile {
   const char* source;

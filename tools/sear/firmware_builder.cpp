@@ -155,13 +155,16 @@ std::string safe_name(const std::string& name) {
 
 std::vector<std::string> compile_flags(const FirmwareToolchain& toolchain, const std::vector<fs::path>& sources) {
   std::vector<std::string> flags = toolchain.compile_flags;
-  if (flags.empty()) flags = {"-std=c99", "-O2", "-g", "-Wall", "-Wextra", "-fno-common"};
+  if (flags.empty()) flags = {"-O2", "-g", "-Wall", "-Wextra", "-fno-common"};
   flags.push_back("-I" + fs::absolute(toolchain.hal_include_dir).lexically_normal().string());
   std::set<std::string> seen;
   for (const auto& source : sources) {
     const std::string dir = source.parent_path().string();
     if (seen.insert(dir).second) flags.push_back("-I" + dir);
   }
+  for (const auto& dir : toolchain.include_dirs) flags.push_back("-I" + dir);
+  for (const auto& define : toolchain.defines) flags.push_back("-D" + define);
+  flags.insert(flags.end(), toolchain.extra_flags.begin(), toolchain.extra_flags.end());
   return flags;
 }
 
@@ -266,6 +269,10 @@ FirmwareToolchain default_toolchain(std::string hal_include_dir, std::vector<std
   FirmwareToolchain toolchain;
   toolchain.compiler = getenv_or_empty("CC");
   if (toolchain.compiler.empty()) toolchain.compiler = "cc";
+  toolchain.cxx_compiler = getenv_or_empty("CXX");
+  if (toolchain.cxx_compiler.empty()) toolchain.cxx_compiler = "c++";
+  toolchain.c_std = toolchain.hal_c_std = "c99";
+  toolchain.cxx_std = "c++17";
   toolchain.hal_include_dir = std::move(hal_include_dir);
   toolchain.libraries = std::move(libraries);
   toolchain.link_flags = std::move(link_flags);
@@ -291,7 +298,11 @@ FirmwareToolchain avr_toolchain(std::string hal_include_dir, const std::string& 
   // As cmake/avr-gcc.cmake builds the examples: for size, each function in its own section so
   // that --gc-sections drops what the firmware never calls. GNU C for the HAL's ISR() and
   // ATOMIC_BLOCK.
-  toolchain.compile_flags = {"-std=gnu99", "-mmcu=atmega2560", fmt::format("-DF_CPU={}UL", std::llround(clock_hz)),
+  toolchain.cxx_compiler = getenv_or_empty("AVR_CXX");
+  if (toolchain.cxx_compiler.empty()) toolchain.cxx_compiler = "avr-g++";
+  toolchain.c_std = toolchain.hal_c_std = "gnu99";
+  toolchain.cxx_std = "gnu++17";
+  toolchain.compile_flags = {"-mmcu=atmega2560", fmt::format("-DF_CPU={}UL", std::llround(clock_hz)),
                              "-Os", "-g", "-Wall", "-Wextra", "-ffunction-sections", "-fdata-sections"};
   std::vector<std::string> hal;
   std::error_code error;
@@ -321,6 +332,9 @@ std::string build_firmware(const std::string& name, const std::vector<std::strin
   base.field(kLayoutVersion);
   base.field(toolchain.compiler);
   base.field(toolchain.archiver);
+  base.field(toolchain.cxx_compiler);
+  base.field(toolchain.c_std);
+  base.field(toolchain.cxx_std);
   const ProcessResult version = run_process({toolchain.compiler, "--version"});
   if (!version.ok) {
     throw FirmwareBuildError(fmt::format("cannot run the C compiler '{}' (set $CC to the compiler to use):\n{}",
@@ -377,12 +391,19 @@ std::string build_firmware(const std::string& name, const std::vector<std::strin
   const ScratchDir scratch(make_scratch_dir(cache, safe_name(name)));
   std::string output;
   bool compiled = true;
-  std::vector<std::string> link{toolchain.compiler};
+  std::vector<std::string> link{toolchain.compiler};  // the C++ driver instead once a C++ source is seen
   std::string dependencies_text;
+  bool any_cxx = false;
+  const std::size_t own_sources = source_paths.size() - toolchain.extra_sources.size();
   for (std::size_t i = 0; i < source_paths.size(); ++i) {
     const std::string object = (scratch.path() / fmt::format("{}.o", i)).string();
     const std::string dep_file = (scratch.path() / fmt::format("{}.d", i)).string();
-    std::vector<std::string> args{toolchain.compiler};
+    // .cpp, .cc and .cxx are C++; the extra sources (the AVR HAL) keep the toolchain's own C.
+    const std::string ext = source_paths[i].extension().string();
+    const bool cxx = ext == ".cpp" || ext == ".cc" || ext == ".cxx";
+    any_cxx = any_cxx || cxx;
+    std::vector<std::string> args{cxx ? toolchain.cxx_compiler : toolchain.compiler};
+    args.push_back("-std=" + (cxx ? toolchain.cxx_std : i < own_sources ? toolchain.c_std : toolchain.hal_c_std));
     args.insert(args.end(), flags.begin(), flags.end());
     args.insert(args.end(), {"-MMD", "-MF", dep_file, "-MT", "firmware", "-c", source_paths[i].string(), "-o", object});
     // Every source is compiled even after one fails, so one attempt shows all the errors.
@@ -407,6 +428,7 @@ std::string build_firmware(const std::string& name, const std::vector<std::strin
     link.resize(first);
     link.push_back(archive);
   }
+  if (any_cxx) link[0] = toolchain.cxx_compiler;
   const fs::path staged = scratch.path() / "staged";
   fs::create_directory(staged, error);
   link.insert(link.end(), libraries.begin(), libraries.end());

@@ -18,6 +18,11 @@ struct FirmwareToolchain {
   std::vector<std::string> compile_flags;
   std::vector<std::string> extra_sources;  // compiled with every firmware: the AVR build's HAL
   std::string archiver;                    // when set, the extra sources are linked from an archive it makes
+  std::string cxx_compiler;                // compiles .cpp/.cc/.cxx sources and links when there are any
+  // One firmware's own build flags (<firmware defines includes flags c_std cxx_std>).
+  std::vector<std::string> defines, include_dirs, extra_flags;
+  std::string c_std, cxx_std;  // the firmware's: c99 / c++17 unless it names others (gnu99 / gnu++17 on the AVR)
+  std::string hal_c_std;       // the extra sources' C, whatever the firmware's
 };
 
 // what(): a first line naming the firmware, then the compiler's messages verbatim (they carry file:line).

@@ -11,6 +11,19 @@
 #endif
 
 namespace sear {
+namespace {
+
+// The MCU's own build flags over a toolchain's defaults.
+FirmwareToolchain with_flags(FirmwareToolchain toolchain, const McuDesc& mcu) {
+  toolchain.defines = mcu.firmware_defines;
+  toolchain.include_dirs = mcu.firmware_includes;
+  toolchain.extra_flags = mcu.firmware_flags;
+  if (!mcu.firmware_c_std.empty()) toolchain.c_std = mcu.firmware_c_std;
+  if (!mcu.firmware_cxx_std.empty()) toolchain.cxx_std = mcu.firmware_cxx_std;
+  return toolchain;
+}
+
+}  // namespace
 
 void build_project_firmware(ProjectDesc& project, bool quiet) {
   std::vector<std::string> link_flags{"-lm"};
@@ -39,11 +52,13 @@ void build_project_firmware(ProjectDesc& project, bool quiet) {
         std::string elf = mcu.firmware_elf;
         if (elf.empty())
           elf = build_firmware(robot.name + "." + mcu.name + ".avr", mcu.firmware_sources,
-                               avr_toolchain(SEAR_HAL_INCLUDE_DIR, SEAR_HAL_AVR_DIR, mcu.clock_hz), &warnings);
+                               with_flags(avr_toolchain(SEAR_HAL_INCLUDE_DIR, SEAR_HAL_AVR_DIR, mcu.clock_hz), mcu),
+                               &warnings);
         mcu.firmware_executable = SEAR_AVR_ENGINE;
         mcu.firmware_args = {"--clock-hz", fmt::format("{}", mcu.clock_hz), elf};
       } else if (!mcu.firmware_sources.empty()) {
-        mcu.firmware_executable = build_firmware(robot.name + "." + mcu.name, mcu.firmware_sources, toolchain, &warnings);
+        mcu.firmware_executable =
+            build_firmware(robot.name + "." + mcu.name, mcu.firmware_sources, with_flags(toolchain, mcu), &warnings);
       }
       if (!warnings.empty() && !quiet) fmt::print(stderr, "{}", warnings);
     }
