@@ -26,15 +26,18 @@ sear::SketchToolchain toolchain(const TempDir& dir) {
   return sear::default_sketch_toolchain();
 }
 
-// Two tabs (twice() in the second, used before it is defined), a .cpp with its header, and a
+// Two tabs (twice() in the second, used before it is defined), a .cpp and a .c with headers, and a
 // library in libraries/ beside the sketch, as the IDE resolves them.
 TEST(SketchBuild, AFolderWithTabsFilesAndItsOwnLibraryBuildsAndRuns) {
   TempDir dir;
   const fs::path sketch = dir.path() / "Counter";
   write(sketch / "Counter.ino",
-        "#include <Tally.h>\n#include \"offset.h\"\nTally tally;\n"
+        "#include <Tally.h>\n#include \"offset.h\"\n#include \"same.h\"\nTally tally;\n"
         "void setup() { Serial.begin(115200); }\n"
-        "void loop() { tally.add(twice(3) + offset()); Serial.print(\"tally \"); Serial.println(tally.total()); delay(100); }\n");
+        "void loop() { tally.add(same(twice(3)) + offset()); Serial.print(\"tally \"); Serial.println(tally.total()); delay(100); }\n");
+  // A C file, compiled as C (a C++ compiler would reject the implicit conversion from void *).
+  write(sketch / "same.h", "#pragma once\n#ifdef __cplusplus\nextern \"C\"\n#endif\nint same(int x);\n");
+  write(sketch / "same.c", "#include <stdlib.h>\n#include \"same.h\"\nint same(int x) { int *p = malloc(sizeof *p); *p = x; x = *p; free(p); return x; }\n");
   write(sketch / "second.ino", "int twice(int x) { return 2 * x; }\n");
   write(sketch / "offset.h", "#pragma once\nint offset();\n");
   write(sketch / "offset.cpp", "#include \"offset.h\"\nint offset() { return 1; }\n");

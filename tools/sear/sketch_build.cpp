@@ -82,11 +82,6 @@ void add_library_sources(const fs::path& include_path, std::vector<std::string>&
       if (entry.is_regular_file() && is_source(entry.path())) sources.push_back(entry.path().string());
 }
 
-std::string from_env_or(const char* name, const std::string& fallback) {
-  const char* v = std::getenv(name);
-  return v && *v ? v : fallback;
-}
-
 }  // namespace
 
 std::string sketch_folder(const std::string& path) {
@@ -113,8 +108,10 @@ SketchToolchain default_sketch_toolchain() {
   t.eeprom_dir = SEAR_ARDUINO_EEPROM_DIR;
   t.include_dirs = {SEAR_ARDUINO_INCLUDE_DIR, std::string(SEAR_ARDUINO_OWN_LIBRARIES_DIR) + "/Servo/src"};
   t.libraries = {SEAR_ARDUINO_LIBRARY, SEAR_ARDUINO_HAL_LIBRARY};
+  // The sketch's .c files with the C compiler ($CC), the rest with the C++ one ($CXX), as the IDE.
   t.firmware = default_toolchain(SEAR_ARDUINO_HAL_INCLUDE_DIR, {}, {"-lm"});
-  t.firmware.compiler = from_env_or("CXX", "c++");
+  t.firmware.cxx_std = "gnu++17";
+  t.firmware.c_std = "gnu11";
   return t;
 }
 
@@ -148,7 +145,7 @@ std::string build_sketch(const std::string& name, const std::string& path, const
   // Libraries: each resolved folder outside Debian's hardware (whose core and AVR libraries the
   // layer replaces) and outside the layer's own (built into it) is compiled with the sketch.
   FirmwareToolchain firmware = toolchain.firmware;
-  firmware.compile_flags = {"-std=gnu++17", "-O2", "-g", "-DARDUINO=10807", "-Wall"};
+  firmware.compile_flags = {"-O2", "-g", "-DARDUINO=10807", "-Wall"};
   for (const auto& dir : toolchain.include_dirs) firmware.compile_flags.push_back("-I" + dir);
   firmware.compile_flags.push_back("-I" + folder);
   const std::string hardware = fs::absolute(toolchain.hardware_dir).lexically_normal().string();
