@@ -90,6 +90,7 @@ int sear_link_check_event(const struct sear_link *link, uint32_t i, struct sear_
     case SEAR_EVENT_PIN_MODE:
     case SEAR_EVENT_PWM:
     case SEAR_EVENT_SERVO:
+    case SEAR_EVENT_PIN_DRIVEN:
       if (e->index >= SEAR_LINK_PINS) FAIL("events[%u].index (pin %u; the board has 0..%d)", i, e->index, SEAR_LINK_PINS - 1);
       break;
     case SEAR_EVENT_UART_BEGIN:
@@ -121,6 +122,7 @@ int sear_link_check_event(const struct sear_link *link, uint32_t i, struct sear_
   if (e->kind == SEAR_EVENT_CAN_BEGIN && e->index != 0) FAIL("events[%u].index (%u, CAN has one controller)", i, e->index);
   const uint32_t v = e->value;
   if ((e->kind == SEAR_EVENT_PIN && v > 1) || (e->kind == SEAR_EVENT_PIN_MODE && v > 2) ||
+      (e->kind == SEAR_EVENT_PIN_DRIVEN && v > 2) ||
       (e->kind == SEAR_EVENT_PWM && v > 255) || (e->kind == SEAR_EVENT_SERVO && v > 2600) ||
       (e->kind == SEAR_EVENT_UART_BEGIN && (v < 300 || v > 2000000)) ||
       (e->kind == SEAR_EVENT_CAN_BEGIN && (v < 10000 || v > 1000000)) ||
@@ -135,6 +137,13 @@ int sear_link_check_event(const struct sear_link *link, uint32_t i, struct sear_
         FAIL("events[%u].time_ns (a byte sent at %lld ns, further ahead of the clock at %lld ns than a UART holds)", i,
              (long long)e->time_ns, (long long)clock);
       return check_time_order(e->time_ns, &w->last_tx_ns[e->index], "a byte sent", i, why, why_size);
+    case SEAR_EVENT_PIN_DRIVEN:
+      /* A device's edge, made by the time the firmware's clock reached it (a sample's from the
+       * quantum's start on, which may lie before the turn's first clock). */
+      if (e->time_ns > clock)
+        FAIL("events[%u].time_ns (a device's edge at %lld ns, after the clock at %lld ns)", i, (long long)e->time_ns,
+             (long long)clock);
+      return check_time_order(e->time_ns, &w->last_driven_ns, "a device's edge", i, why, why_size);
     case SEAR_EVENT_UART_RX:
       if (e->time_ns > clock)
         FAIL("events[%u].time_ns (a byte received at %lld ns, after the clock at %lld ns)", i, (long long)e->time_ns,

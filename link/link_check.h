@@ -22,6 +22,7 @@ struct sear_link_watch {
   uint64_t calls;
   uint32_t last_call;      /* enum sear_call */
   int64_t last_event_ns;   /* of pin, PWM, servo and port-start events, which come in time order */
+  int64_t last_driven_ns;  /* of the levels devices drive, which come in time order among themselves */
   int64_t last_tx_ns[SEAR_LINK_UARTS];
   int64_t last_rx_ns[SEAR_LINK_UARTS];
   uint32_t can_data_due;   /* CAN_DATA events still owed by the last CAN_TX (2, 1 or 0) */

@@ -166,7 +166,11 @@ enum sear_event_kind {
    * CAN_DATA events that follow at once carry its data bytes 0-3 (index 0) and 4-7 (index 1),
    * little-endian. */
   SEAR_EVENT_CAN_TX = 9,
-  SEAR_EVENT_CAN_DATA = 10
+  SEAR_EVENT_CAN_DATA = 10,
+  /* A device in the firmware's process drives a pin (an echo, an encoder channel, a data-ready
+   * line, a switch): index = pin, value = level 0/1, or 2 when it lets go; time = the device's
+   * own edge. For the waveforms: the firmware reads these levels itself. */
+  SEAR_EVENT_PIN_DRIVEN = 11
 };
 
 struct sear_event {

@@ -92,6 +92,57 @@ TEST(Hcsr04Run, APolledEchoHasTheWidthOfTheDistance) {
   EXPECT_GE(echoes, 10);
 }
 
+// The levels of pin `pin` in a pins.vcd, as (time, level) changes: pin n's identifier is '!' + n.
+std::vector<std::pair<long long, char>> pin_changes(const std::string& vcd, int pin) {
+  std::vector<std::pair<long long, char>> changes;
+  const std::string id(1, static_cast<char>('!' + pin));
+  long long t = 0;
+  bool body = false;
+  for (const auto& line : lines_of(vcd)) {
+    if (line.rfind("$enddefinitions", 0) == 0) body = true;
+    if (!body || line.empty()) continue;
+    if (line[0] == '#') t = std::stoll(line.substr(1));
+    else if (line.size() == 2 && line.substr(1) == id) changes.emplace_back(t, line[0]);
+  }
+  return changes;
+}
+
+// The pins a device drives are in the waveform as a logic analyser would see them: each echo the
+// polled firmware timed is a high pulse on ECHO (pin 10) that rises after TRIG (pin 24) fell, as
+// wide as the firmware measured to within its loop's sampling. A pass of the loop is a
+// digital_read() and a micros(), 2 calls of 3.125 us: the read that sees each edge comes 0 to
+// 6.25 us after it, both edges' micros() follow their read by the same call, and micros() counts
+// whole microseconds, so the two widths differ by less than 6.25 + 1 us.
+TEST(Hcsr04Run, TheEchoADeviceDrivesIsInTheWaveform) {
+  TempDir dir;
+  const std::string mcu = std::string("    <mcu name=\"main\">\n      <firmware executable=\"") + ECHO_POLL_PROBE +
+                          "\"/>\n      <hcsr04 name=\"sonar\" trig=\"24\" echo=\"10\" pos=\"0.15 0 0.05\"/>\n    </mcu>\n";
+  const std::string wall = "    <wall name=\"target\" from=\"1.2 -2\" to=\"1.2 2\" height=\"0.5\" thickness=\"0.1\"/>\n";
+  const SearRun run = run_sear(dir, rover_project(mcu, wall, 0.5));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::vector<unsigned long> timed;
+  for (const auto& line : lines_of(run.file("rover.main.console.log"))) {
+    unsigned long width = 0;
+    if (std::sscanf(line.c_str(), "%*s echo %lu us", &width) == 1) timed.push_back(width);
+  }
+  const auto echo = pin_changes(run.file("rover.main.pins.vcd"), 10);
+  const auto trig = pin_changes(run.file("rover.main.pins.vcd"), 24);
+  std::vector<std::pair<long long, long long>> pulses;  // rise, fall
+  for (std::size_t k = 0; k + 1 < echo.size(); ++k)
+    if (echo[k].second == '1' && echo[k + 1].second == '0') pulses.emplace_back(echo[k].first, echo[k + 1].first);
+  ASSERT_GE(timed.size(), 6u);  // one every 70 ms and a few, over 0.5 s
+  ASSERT_GE(pulses.size(), timed.size());
+  for (std::size_t k = 0; k < timed.size(); ++k) {
+    const double width_us = static_cast<double>(pulses[k].second - pulses[k].first) * 1e-3;
+    EXPECT_NEAR(static_cast<double>(timed[k]), width_us, 6.25 + 1.0) << "echo " << k;
+    // The echo rises after the TRIG pulse that started it has ended.
+    long long trig_fell = -1;
+    for (const auto& c : trig)
+      if (c.second == '0' && c.first < pulses[k].first) trig_fell = c.first;
+    EXPECT_GT(trig_fell, 0) << "echo " << k;
+  }
+}
+
 // The device models run in the firmware's own process, sealed behind the HAL: a firmware that
 // names its functions as they do (a likely choice for a driver of the same part) neither clashes
 // with them at link time nor takes their place.

@@ -9,6 +9,7 @@
 static struct sear_link *link;
 static struct mcu_device devices[SEAR_LINK_MAX_INPUTS];
 static uint8_t pin_device[SEAR_LINK_PINS]; /* the input told of the firmware's writes to the pin */
+static int64_t operation_ns;                /* see mcu_devices_time_ns() */
 
 /* An analog output's volts and a digital output's level go on the board and are kept for the
  * device's reading. */
@@ -287,8 +288,11 @@ void mcu_devices_init(struct sear_link *the_link) {
   }
 }
 
+int64_t mcu_devices_time_ns(void) { return operation_ns; }
+
 void mcu_devices_sample(const struct sear_link_sample *s) {
   if (s->input >= input_count()) return;
+  operation_ns = s->time_ns;
   if (ops_of(s->input)->sample) ops_of(s->input)->sample(&devices[s->input], &link->inputs[s->input], s);
   refresh(s->input, s->time_ns);
 }
@@ -296,6 +300,7 @@ void mcu_devices_sample(const struct sear_link_sample *s) {
 void mcu_devices_pin_written(uint8_t pin, uint8_t level, int64_t t_ns) {
   const uint8_t i = pin_device[pin];
   if (i == MCU_NO_DEVICE || i >= input_count() || !ops_of(i)->pin_written) return;
+  operation_ns = t_ns;
   ops_of(i)->pin_written(&devices[i], &link->inputs[i], pin, level, t_ns);
   refresh(i, t_ns);
 }
@@ -318,6 +323,7 @@ void mcu_devices_run_due(int64_t now_ns) {
       }
     }
     if (t > now_ns) return;
+    operation_ns = t;
     ops_of(which)->run_event(&devices[which], &link->inputs[which], t);
     refresh(which, t);
   }
@@ -325,6 +331,7 @@ void mcu_devices_run_due(int64_t now_ns) {
 
 int mcu_devices_spi_transfer(uint8_t mosi, uint32_t sck_hz, int64_t t_ns) {
   int miso = -1;
+  operation_ns = t_ns;
   for (uint32_t i = 0; i < input_count(); ++i) {
     const struct device_ops *ops = ops_of(i);
     if (!ops->spi_transfer) continue;
@@ -351,6 +358,7 @@ static int i2c_device(uint8_t address) {
 int mcu_devices_i2c_write(uint8_t address, const uint8_t *data, uint8_t length, int64_t t_ns) {
   const int i = i2c_device(address);
   if (i < 0) return -1;
+  operation_ns = t_ns;
   const int acknowledged = ops_of((uint32_t)i)->i2c_write(&devices[i], data, length, t_ns);
   refresh((uint32_t)i, t_ns);
   return acknowledged;
@@ -359,6 +367,7 @@ int mcu_devices_i2c_write(uint8_t address, const uint8_t *data, uint8_t length, 
 int mcu_devices_i2c_read(uint8_t address, uint8_t *data, uint8_t length, int64_t t_ns) {
   const int i = i2c_device(address);
   if (i < 0) return -1;
+  operation_ns = t_ns;
   const int acknowledged = ops_of((uint32_t)i)->i2c_read(&devices[i], data, length, t_ns);
   refresh((uint32_t)i, t_ns);
   return acknowledged;

@@ -47,6 +47,9 @@ void mcu_devices_init(struct sear_link *link);
 struct sear_link *mcu_devices_link(void);
 /* Input i's model state, for its reading. */
 const struct mcu_device *mcu_device_state(uint32_t i);
+/* The time of the device operation in progress (a sample, an edge, a pin or bus access): when a
+ * level a device puts on the board now changes. */
+int64_t mcu_devices_time_ns(void);
 /* A sample of truth for input s->input, now due. */
 void mcu_devices_sample(const struct sear_link_sample *s);
 /* The firmware drove `pin` to `level` (an output's new level) at t_ns. */

@@ -5,6 +5,7 @@
 
 #include <hal/gpio.h>
 
+#include "devices.h"
 #include "link_end.h"
 #include "mcu_state.h"
 
@@ -32,8 +33,13 @@ void mcu_set_driven(uint8_t pin, uint8_t level) {
     sear_mcu.pin_pending[pin] = 1;
 }
 
-/* The board interface the device entries talk to (devices.h), for the native engine. */
-void board_drive_pin(uint8_t pin, uint8_t level) { mcu_set_driven(pin, level); }
+/* The board interface the device entries talk to (devices.h), for the native engine. A change of
+ * what a device drives reaches the simulator too, at the device's own time, for the waveforms. */
+void board_drive_pin(uint8_t pin, uint8_t level) {
+  if (sear_mcu.driven[pin] != level)
+    mcu_emit(SEAR_EVENT_PIN_DRIVEN, pin, level == MCU_FLOATING ? 2u : level, mcu_devices_time_ns());
+  mcu_set_driven(pin, level);
+}
 
 void board_set_analog(uint8_t channel, double volts) { sear_mcu.analog_v[channel] = volts; }
 

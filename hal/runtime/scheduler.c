@@ -268,8 +268,10 @@ __attribute__((constructor(101))) static void start_mcu(void) {
   sear_mcu.cost_ns = link->hal_call_cost_ns;
   sear_mcu.adc_bits = 10;
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) sear_mcu.driven[pin] = MCU_FLOATING;
-  mcu_devices_init(sear_mcu.link);
+  /* The devices start within the first turn, so that the levels they drive at once reach the
+   * simulator with that turn's events. */
   mcu_link_first_turn();
+  mcu_devices_init(sear_mcu.link);
   mcu_take_quantum();
   mcu_reschedule();
 }

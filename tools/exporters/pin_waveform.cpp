@@ -52,6 +52,8 @@ PinWaveform::PinWaveform(BoundedFile& pins, BoundedFile& values, const std::stri
     header += fmt::format("$var wire 1 {} D{} $end\n", vcd_id(pin), pin);
     initial += fmt::format("z{}\n", vcd_id(pin));
   }
+  mode_.fill(0);    // INPUT, as at reset
+  driven_.fill(2);  // nothing outside drives it
   pins_.file.write(header + "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n" + initial + "$end\n");
 
   header = fmt::format("$comment SEAR PWM duties (0..255), servo pulses (us){} of mcu {} $end\n",
@@ -95,6 +97,12 @@ void PinWaveform::stamp(Stream& stream, std::int64_t time_ns) {
   char* end = std::to_chars(line + 1, line + sizeof line - 1, time_ns).ptr;
   *end++ = '\n';
   put(stream, line, static_cast<std::size_t>(end - line));
+}
+
+// An input shows what a device drives onto it, else its pull-up's high, else nothing ('z').
+void PinWaveform::show_input(std::int64_t time_ns, int pin) {
+  const std::uint8_t d = driven_[pin];
+  level(time_ns, pin, d == 0 ? '0' : d == 1 ? '1' : mode_[pin] == 2 ? '1' : 'z');
 }
 
 void PinWaveform::level(std::int64_t time_ns, int pin, char value) {
@@ -194,8 +202,10 @@ void PinWaveform::write_one(const sear_event& e) {
       if (pwm_started_[i]) show(e.time_ns, duty_[i], duty_id_[i], value ? 255 : 0);
       break;
     case SEAR_EVENT_PIN_MODE:
-      if (i >= SEAR_LINK_PINS || value == 1) return;  // an output's level follows as a PIN event
-      level(e.time_ns, i, 'z');                        // an input: the MCU drives nothing
+      if (i >= SEAR_LINK_PINS) return;
+      mode_[i] = static_cast<std::uint8_t>(value);
+      if (value == 1) return;  // an output's level follows as a PIN event
+      show_input(e.time_ns, i);
       pwm_started_[i] = false;
       if (!duty_id_[i].empty()) show(e.time_ns, duty_[i], duty_id_[i], -1);
       if (!servo_id_[i].empty()) show(e.time_ns, servo_[i], servo_id_[i], -1);
@@ -218,6 +228,11 @@ void PinWaveform::write_one(const sear_event& e) {
       break;
     case kLineLevel:
       if (i < SEAR_LINK_PINS) level(e.time_ns, i, value ? '1' : '0');
+      break;
+    case SEAR_EVENT_PIN_DRIVEN:
+      if (i >= SEAR_LINK_PINS) return;
+      driven_[i] = static_cast<std::uint8_t>(value);
+      if (mode_[i] != 1) show_input(e.time_ns, i);
       break;
     case SEAR_EVENT_UART_TX:
     case SEAR_EVENT_UART_RX:

@@ -1,5 +1,6 @@
 // One MCU's pins and ports as VCD waveforms (IEEE 1364 section 18), in two files. The pins, as a
-// logic analyser shows them: each pin's level, a USART's TX and RX pins carrying their frames
+// logic analyser shows them: each pin's level, whether the firmware drives it or a device does
+// (an echo, an encoder, a data-ready line, a switch), a USART's TX and RX pins carrying their frames
 // (start bit, eight data bits from the least significant, stop bit), one-bit wires only, so that
 // sigrok (PulseView, sigrok-cli), whose VCD reader stops at the first multi-bit value, reads them
 // with its protocol decoders. The values, for GTKWave: each PWM pin's duty, each servo pin's pulse
@@ -69,6 +70,7 @@ class PinWaveform {
   };
   void stamp(Stream& stream, std::int64_t time_ns);
   void level(std::int64_t time_ns, int pin, char value);
+  void show_input(std::int64_t time_ns, int pin);
   void vector(std::int64_t time_ns, const std::string& id, int value);  // value < 0: 'z'
   void show(std::int64_t time_ns, int& shown, const std::string& id, int value);  // if it changed
   void write_one(const sear_event& e);
@@ -84,6 +86,8 @@ class PinWaveform {
   std::array<std::string, SEAR_LINK_PINS> duty_id_, servo_id_;  // empty: not such a pin
   std::array<int, SEAR_LINK_PINS> duty_{}, servo_{};            // shown; -1: 'z'
   std::array<bool, SEAR_LINK_PINS> pwm_started_{};              // since the pin last became an output
+  std::array<std::uint8_t, SEAR_LINK_PINS> mode_{};    // INPUT, OUTPUT or INPUT_PULLUP (hal/gpio.h)
+  std::array<std::uint8_t, SEAR_LINK_PINS> driven_{};  // what a device drives: 0, 1, 2 nothing
   std::array<std::uint32_t, kPorts> baud_{};
   std::array<Line, 2 * kPorts> lines_;  // port n: tx at 2n, rx at 2n + 1
   std::int64_t next_end_ns_ = INT64_MAX;
