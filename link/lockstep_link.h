@@ -73,7 +73,8 @@ enum sear_input_kind {
   /* MPU-6000 on SPI / MPU-6050 on I2C: pins[0] chip select (6000) or I2C address (6050), pins[1]
    * data-ready INT pin or SEAR_LINK_NO_PIN; param[0] gyro noise density (rad/s/sqrt(Hz)),
    * param[1] gyro turn-on bias sd (rad/s), param[2] accel noise density (m/s^2/sqrt(Hz)), each
-   * < 0 for the datasheet's; one sample per quantum: value[0..2] specific force (m/s^2),
+   * < 0 for the datasheet's, param[3] the self-test response's error against its trim (a
+   * fraction, 0 for a healthy part); one sample per quantum: value[0..2] specific force (m/s^2),
    * value[3..5] angular rate (rad/s), in the sensor's axes */
   SEAR_INPUT_MPU6000 = 7,
   SEAR_INPUT_MPU6050 = 8,

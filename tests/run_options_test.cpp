@@ -208,6 +208,30 @@ TEST(StopKind, ARefusedCallIsReportedWithTheHalsReasonAndNoCode) {
   expect_stop({REFUSE_PROBE, "refused", 0, "pwm_write(22): on the ATmega2560 board only pins", "pwm_write", 0.3000125});
 }
 
+// A physics failure ends the run with its documented exit code, 4, the status "physics failed"
+// and the report in the summary, and what was written up to there stays whole. The failure is
+// made on purpose (tests/physics_fault_preload.c, preloaded into sear): after ODE's 250th step of
+// 1 ms the rover's first body has a NaN velocity, which the check after that step finds.
+TEST(RunStatus, APhysicsFailureEndsTheRunWithCode4AndItsReport) {
+  TempDir dir;
+  setenv("LD_PRELOAD", PHYSICS_FAULT_PRELOAD, 1);
+  setenv("SEAR_TEST_BREAK_STEP", "250", 1);
+  const auto run = run_sear(dir, rover_project(kDriveOn, "", 1.0));
+  unsetenv("LD_PRELOAD");
+  unsetenv("SEAR_TEST_BREAK_STEP");
+  EXPECT_EQ(run.exit_code, 4) << run.err;
+  EXPECT_NE(run.err.find("sear: physics failed at sim time 0.250000 s: robot 'rover'"), std::string::npos) << run.err;
+  const auto summary = nlohmann::json::parse(run.file("summary.json"));
+  EXPECT_EQ(summary["status"], "physics failed");
+  ASSERT_TRUE(summary["physics_failure"].is_string());
+  EXPECT_NE(summary["physics_failure"].get<std::string>().find("a non-finite state"), std::string::npos);
+  EXPECT_DOUBLE_EQ(summary["sim_time_s"].get<double>(), 0.25);  // the step in which it broke
+  // The trace has every row due before the failure (every 100 ms from 0) and they are finite.
+  const Trace trace(run.file("trace_rover.csv"));
+  EXPECT_EQ(trace.times_us(), (std::vector<long long>{0, 100000, 200000}));
+  EXPECT_TRUE(std::isfinite(trace.last("x_m")));
+}
+
 TEST(RunStatus, CtrlCEndsTheRunInterruptedWithCode130AndASummaryOfTheStepsDone) {
   TempDir dir;
   // A run far too long to finish, interrupted by SIGINT once its trace holds a few rows (waited

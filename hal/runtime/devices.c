@@ -148,6 +148,7 @@ static void mpu_start(struct mcu_device *d, const struct sear_link_input *in, en
   if (in->param[1] >= 0)
     for (int a = 0; a < 3; ++a) c.gyro.turn_on_bias[a] = in->param[1];
   if (in->param[2] >= 0) c.accel.noise_density = in->param[2];
+  c.self_test_error = in->param[3];
   mpu6000_init(&d->u.mpu, &c, 0);
 }
 static void mpu6000_start(struct mcu_device *d, const struct sear_link_input *in) { mpu_start(d, in, MPU6000_VARIANT_6000); }

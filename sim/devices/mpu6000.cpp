@@ -29,6 +29,7 @@ class Mpu : public SimDevice {
     in.param[0] = d.value("gyro_noise");
     in.param[1] = d.value("gyro_bias");
     in.param[2] = d.value("accel_noise");
+    in.param[3] = d.value("self_test_error");
     input_ = host.add_input(in);
   }
 
@@ -54,7 +55,11 @@ std::vector<DeviceParam> imu_params() {
           {"gyro_bias", T::Number, -1, {-1, 100, false, "0..100 deg/s, or -1 for the datasheet's"}, "deg/s",
            "standard deviation of each axis' zero-rate offset at power-up", {}, kDegToRad},
           {"accel_noise", T::Number, -1, {-1, 100000, false, "0..100000 ug/sqrt(Hz), or -1 for the datasheet's 400"},
-           "ug/sqrt(Hz)", "accelerometer noise density", {}, 9.80665e-6}};
+           "ug/sqrt(Hz)", "accelerometer noise density", {}, 9.80665e-6},
+          {"self_test_error", T::Number, 0, {-1, 1, false, "-1..1"}, "",
+           "how far the self-test response is from its factory trim, as a fraction: 0 for a healthy part; "
+           "beyond -0.14..0.14 it fails InvenSense's self-test (PS 6.1/6.2)",
+           {}, 1.0}};
 }
 
 }  // namespace
