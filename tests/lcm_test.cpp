@@ -433,19 +433,23 @@ TEST(Lcm, OutputsSayWhatThePinsDriveAfterEachStepThatChangedThem) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto outputs =
       decoded<sear::outputs_t>(read_log((dir.path() / "run.lcmlog").string()), "SEAR/rover/main/OUTPUTS");
-  // Changes at 5, 15, 25, 35, 45 and 55 ms, each seen at the end of its step. Duty = value / 255;
-  // pwm_write(0) is a plain low level and digital_write(HIGH) ends the PWM; servo pulses in s.
+  // Changes at 0 and 1.5 ms (pin 4 an output, LOW, then HIGH) and at 5, 15, 25, 35, 45 and 55 ms,
+  // each seen at the end of its step. Duty = value / 255; pwm_write(0) is a plain low level and
+  // digital_write(HIGH) ends the PWM; servo pulses in s.
   struct Pin {
     int pin, drive;
     double value;
   };
+  const Pin four{4, sear::outputs_t::LEVEL, 1};
   const std::vector<std::pair<std::int64_t, std::vector<Pin>>> expected = {
-      {6000000, {{3, sear::outputs_t::PWM, 64 / 255.0}, {44, sear::outputs_t::SERVO, 1500e-6}}},
-      {16000000, {{3, sear::outputs_t::PWM, 200 / 255.0}, {44, sear::outputs_t::SERVO, 1500e-6}}},
-      {26000000, {{3, sear::outputs_t::LEVEL, 0}, {44, sear::outputs_t::SERVO, 2000e-6}}},
-      {36000000, {{3, sear::outputs_t::PWM, 128 / 255.0}, {44, sear::outputs_t::SERVO, 2000e-6}}},
-      {46000000, {{3, sear::outputs_t::LEVEL, 1}, {44, sear::outputs_t::SERVO, 0}}},
-      {56000000, {{44, sear::outputs_t::SERVO, 0}}},  // pin 3 is an input again
+      {1000000, {{4, sear::outputs_t::LEVEL, 0}}},
+      {2000000, {four}},
+      {6000000, {{3, sear::outputs_t::PWM, 64 / 255.0}, four, {44, sear::outputs_t::SERVO, 1500e-6}}},
+      {16000000, {{3, sear::outputs_t::PWM, 200 / 255.0}, four, {44, sear::outputs_t::SERVO, 1500e-6}}},
+      {26000000, {{3, sear::outputs_t::LEVEL, 0}, four, {44, sear::outputs_t::SERVO, 2000e-6}}},
+      {36000000, {{3, sear::outputs_t::PWM, 128 / 255.0}, four, {44, sear::outputs_t::SERVO, 2000e-6}}},
+      {46000000, {{3, sear::outputs_t::LEVEL, 1}, four, {44, sear::outputs_t::SERVO, 0}}},
+      {56000000, {four, {44, sear::outputs_t::SERVO, 0}}},  // pin 3 is an input again
   };
   ASSERT_EQ(outputs.size(), expected.size());
   for (std::size_t k = 0; k < expected.size(); ++k) {

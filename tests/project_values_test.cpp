@@ -327,7 +327,7 @@ TEST(ProjectValues, FirmwareMustBeAnExecutableOrCSources) {
   EXPECT_TRUE(only_error(load(dir, with_mcu(R"(<firmware sources="src"/>)")), file, line,
                          {"firmware source 'src' is a folder, expected a file"}));
   EXPECT_TRUE(only_error(load(dir, with_mcu(R"(<firmware sources="main.h"/>)")), file, line,
-                         {"firmware source 'main.h' is not a C source (a .c file)"}));
+                         {"firmware source 'main.h' is not a C or C++ source (.c, .cpp, .cc, .cxx); headers are found through #include"}));
   EXPECT_TRUE(only_error(load(dir, with_mcu(R"(<firmware sources=" "/>)")), file, line,
                          {"'sources' names no files"}));
   EXPECT_TRUE(only_error(load(dir, with_mcu(R"(<firmware sources="main.c"/>)", "      <uart port=\"1\" receive=\"src\"/>\n")),
