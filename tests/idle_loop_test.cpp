@@ -82,8 +82,12 @@ class HostLoad {
 TEST(IdleLoop, ComputingBetweenHalCallsIsNeverTakenForWaitingQuietOrLoaded) {
   // 3 rounds of 2 ms and the printing of 3 lines of ~110 bytes at 115200 baud (87 us a byte, 29 ms) fit.
   const std::string project = probe_project(COMPUTE_PROBE, 0.05);
+  // Each computation lasts tens of milliseconds of host time in an optimised build and seconds in
+  // a sanitizer build beside two busy processes; the hang check (5 s of host time by default)
+  // must not end the run for it, which is not what this test is about.
+  const std::string generous = "--hang-timeout 120";
   TempDir quiet_dir;
-  const auto quiet = run_sear(quiet_dir, project);
+  const auto quiet = run_sear(quiet_dir, project, generous);
   ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
   const std::string console = quiet.file("rover.main.console.log");
   for (const auto& line : expected_rounds())
@@ -93,7 +97,7 @@ TEST(IdleLoop, ComputingBetweenHalCallsIsNeverTakenForWaitingQuietOrLoaded) {
   SearRun loaded;
   {
     const HostLoad load(2);
-    loaded = run_sear(loaded_dir, project);
+    loaded = run_sear(loaded_dir, project, generous);
   }
   ASSERT_EQ(loaded.exit_code, 0) << loaded.err;
   // Every byte, the values computed and the times the console stamps included.

@@ -55,7 +55,7 @@ int main(void) {
     t[r][1] = micros();
     counted[r] = count_to(40000000u + 1000u * (uint32_t)r);
     t[r][2] = micros();
-    mixed[r] = mix(60000000u + 1000u * (uint32_t)r);
+    mixed[r] = mix(20000000u + 1000u * (uint32_t)r);
     t[r][3] = micros();
     seen[r] = ticks;
     delay_ms(2);
