@@ -28,6 +28,7 @@
 #include "devices/gnss_error.h"
 #include "command_output.hpp"
 #include "firmware_run.hpp"
+#include "loopback_port.hpp"
 #include "pty/line_speed.hpp"
 #include "pty/pty_port.hpp"
 #include "sensors/gnss_truth.hpp"
@@ -276,37 +277,6 @@ class BackgroundRun {
 
 std::string run_output(const std::string& cmd) { return sear::test::command_output(cmd).out; }
 
-// A TCP port on 127.0.0.1 that nothing listens on now (the kernel's pick for port 0).
-int free_loopback_port() {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t len = sizeof a;
-  int port = 0;
-  if (::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 &&
-      ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len) == 0)
-    port = ntohs(a.sin_port);
-  ::close(s);
-  return port;
-}
-
-// Whether something accepts connections on 127.0.0.1:port within 10 s.
-bool wait_for_listener(int port) {
-  for (const auto end = Clock::now() + std::chrono::seconds(10); Clock::now() < end;) {
-    const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    const bool up = ::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-    ::close(s);
-    if (up) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return false;
-}
-
 // A rover at rest at the origin of a flat world, its ATmega running a firmware that does not
 // use the device under test; `devices` are wired to its MCU "main".
 std::string pty_project(const std::string& devices, const std::string& world_extra, double duration_s) {
@@ -397,12 +367,12 @@ TEST(PtyRun, GpsdReadsAThreeDFixWithinTheConfiguredError) {
                     "--pty rover.main.gps --realtime 2 -q");
   const std::string pty = run.pty("rover.main.gps");
   ASSERT_FALSE(pty.empty()) << run.file("stderr");
-  const int port = free_loopback_port();  // gpsd without -G listens on loopback only
+  const int port = sear::test::free_loopback_port();  // gpsd without -G listens on loopback only
   ASSERT_GT(port, 0);
   std::string json;
   {
     Spawned gpsd("exec timeout 30 gpsd -N -n -b -s 9600 -S " + std::to_string(port) + " " + pty + " >/dev/null 2>&1");
-    ASSERT_TRUE(wait_for_listener(port)) << "gpsd did not start";
+    ASSERT_TRUE(sear::test::wait_for_listener(port)) << "gpsd did not start";
     json = run_output("timeout 15 gpspipe -w -n 40 127.0.0.1:" + std::to_string(port) + " 2>/dev/null");
   }
   EXPECT_EQ(run.wait(), 0) << run.file("stderr");

@@ -25,6 +25,7 @@
 #include "command_output.hpp"
 #include "devices/gnss_error.h"
 #include "firmware_run.hpp"
+#include "loopback_port.hpp"
 #include "sensors/gnss_truth.hpp"
 #include "temp_dir.hpp"
 
@@ -59,37 +60,6 @@ class Spawned {
  private:
   pid_t pid_ = -1;
 };
-
-// A TCP port on 127.0.0.1 that nothing listens on now (the kernel's pick for port 0).
-int free_loopback_port() {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t len = sizeof a;
-  int port = 0;
-  if (::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 &&
-      ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len) == 0)
-    port = ntohs(a.sin_port);
-  ::close(s);
-  return port;
-}
-
-// Whether something accepts connections on 127.0.0.1:port within 10 s (gpsd's start-up).
-bool wait_for_listener(int port) {
-  for (const auto end = Clock::now() + std::chrono::seconds(10); Clock::now() < end;) {
-    const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    const bool up = ::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-    ::close(s);
-    if (up) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return false;
-}
 
 // The path the run links to the device's pty, once it exists (30 s at most: the run's start).
 std::string wait_for_pty(const std::filesystem::path& link, const Spawned& run) {
@@ -127,14 +97,14 @@ TEST(GpsdDefaultMode, SwitchesTheNeo6mToUbxAndReportsA3dFixWithinTheConfiguredEr
               (dir.path() / "stderr").string());
   const std::string pty = wait_for_pty(out / "rover.main.gps.pty", run);
   ASSERT_FALSE(pty.empty()) << sear::test::read_file(dir.path() / "stderr");
-  const int port = free_loopback_port();  // gpsd without -G listens on loopback only
+  const int port = sear::test::free_loopback_port();  // gpsd without -G listens on loopback only
   ASSERT_GT(port, 0);
   std::string json;
   {
     // The command line: default mode (no -b), no fixed rate (-s): gpsd starts at the
     // pty's power-up 9600 and recognises the stream there.
     Spawned gpsd("exec timeout 30 gpsd -N -n -S " + std::to_string(port) + " " + pty + " >/dev/null 2>&1");
-    ASSERT_TRUE(wait_for_listener(port)) << "gpsd did not start";
+    ASSERT_TRUE(sear::test::wait_for_listener(port)) << "gpsd did not start";
     // Everything gpsd reports for 12 wall seconds: the run's 14 simulated seconds take 7 at
     // twice real time, and 12 still hold them all on a host slowed to 1.2x. A count of messages
     // would not do: how many NMEA reports come before gpsd has switched the receiver to UBX
