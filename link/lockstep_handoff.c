@@ -29,14 +29,28 @@ static long futex(uint32_t *word, int op, uint32_t value, const struct timespec 
 }
 
 void sear_handoff_give(uint32_t *turn, uint32_t value, uint32_t *peer_waiting) {
+  const int saved_errno = errno;
   __atomic_store_n(turn, value, __ATOMIC_SEQ_CST);
   /* Sequentially consistent on both sides: either the peer sees the new turn before sleeping,
    * or we see its waiting flag here and wake it. */
   if (__atomic_load_n(peer_waiting, __ATOMIC_SEQ_CST)) futex(turn, FUTEX_WAKE, 1, NULL);
+  errno = saved_errno;
 }
 
+static int wait_for(uint32_t *turn, uint32_t value, uint32_t *self_waiting, int64_t spin_ns, int64_t timeout_ns);
+
+/* errno is left as it was: a firmware's code may read it (the C library's free() keeps it in its
+ * frame), and whether a futex wait was interrupted (EINTR), found the turn already given (EAGAIN)
+ * or ran out (ETIMEDOUT) is the host's timing, which must not reach what the firmware sees. */
 int sear_handoff_wait(uint32_t *turn, uint32_t value, uint32_t *self_waiting, int64_t spin_ns,
                       int64_t timeout_ns) {
+  const int saved_errno = errno;
+  const int taken = wait_for(turn, value, self_waiting, spin_ns, timeout_ns);
+  errno = saved_errno;
+  return taken;
+}
+
+static int wait_for(uint32_t *turn, uint32_t value, uint32_t *self_waiting, int64_t spin_ns, int64_t timeout_ns) {
   if (__atomic_load_n(turn, __ATOMIC_ACQUIRE) == value) return 1;
   const int64_t start = monotonic_ns();
   /* A few dozen PAUSEs (about a microsecond) catch a peer that runs on the other core and answers

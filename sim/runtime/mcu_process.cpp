@@ -45,9 +45,13 @@ const char* const kCallNames[] = {SEAR_HAL_CALLS(SEAR_CALL_NAME)};
 
 // A firmware sees the same environment in every run, whatever the user's shell holds, so that
 // its stack (where the kernel copies the environment) sits at the same addresses. Only the
-// sanitizers' own settings pass, for sanitizer builds of the tests.
+// sanitizers' own settings pass, for sanitizer builds of the tests. Every symbol is bound at
+// load, before the stack is painted (startup_memory.c): bound lazily, a function's first call
+// runs the dynamic linker's resolver, which saves the vector registers (XSAVEC) a few hundred
+// bytes below the caller, and whether the SSE state reads as in use there depends on the host's
+// context switches, so those bytes differed between runs where uninitialised stack is read next.
 std::vector<std::string> firmware_environment() {
-  std::vector<std::string> env{fmt::format("{}={}", SEAR_LINK_FD_ENV, kLinkFd),
+  std::vector<std::string> env{fmt::format("{}={}", SEAR_LINK_FD_ENV, kLinkFd), "LD_BIND_NOW=1",
                                fmt::format("{}={:010d}", SEAR_SIM_PID_ENV, getpid())};
   for (const char* name : {"ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS"})
     if (const char* value = std::getenv(name)) env.push_back(fmt::format("{}={}", name, value));

@@ -3,7 +3,10 @@
  * they are the same in every run. The second stack buffer lies where the C library's formatting
  * just ran (its frames hold the stack protector's canary), where the lockstep hand-off of a delay
  * waited (host times), and where the idle-loop check's timer signals interrupted a computation
- * (registers at host-timed instants); the heap block is one freed and taken again. */
+ * (registers at host-timed instants); the heap block is one freed and taken again. errno is
+ * printed too: the hand-off's futex wait sets it as the host's timing has it (EINTR, EAGAIN), and
+ * the C library's free() keeps it in its frame, so it once reached the deep junk. */
+#include <errno.h>
 #include <hal/hal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -62,8 +65,9 @@ int main(void) {
   irq_timer_start(1000, tick); /* an interrupt handler: the idle-loop check starts looking */
   const unsigned computed = compute();
   delay_ms(2); /* a hand-off at the quantum's end */
-  snprintf(line, sizeof line, "computed %08x; after formatting %g: deep junk %08x heap junk %08x\n", computed, 3.25,
-           never_written_deep(), heap_reused());
+  const int error = errno;
+  snprintf(line, sizeof line, "computed %08x errno %d; after formatting %g: deep junk %08x heap junk %08x\n", computed,
+           error, 3.25, never_written_deep(), heap_reused());
   uart_print(0, line);
   free(heap);
   for (;;) delay_ms(100);
