@@ -2,6 +2,9 @@
 // the trace's columns, as the header of a run's trace_<robot>.csv has them.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <regex>
+
 #include "exporters/trace_csv.hpp"
 #include "firmware_run.hpp"
 
@@ -30,6 +33,26 @@ TEST(Docs, TheTraceHeaderFollowsTheList) {
                    "forward_mps");
   EXPECT_EQ(header.substr(fixed.size()),
             ",wheel_left_radps,wheel_right_radps,motor_left_duty,motor_left_mode,motor_right_duty,motor_right_mode");
+}
+
+// firmware_examples/lib/README.md lists every function the drivers' headers declare, as `name(`,
+// so a driver that gains a call cannot leave its page behind.
+TEST(Docs, TheDriversPageListsEveryCallTheirHeadersDeclare) {
+  const std::filesystem::path lib = std::filesystem::path(SEAR_ASSET_DIR) / ".." / "firmware_examples" / "lib";
+  const std::string page = read_file((lib / "README.md").string());
+  const std::regex declaration(R"(^[a-z][\w ]*?\b(\w+)\((?:const |struct |void|uint|int)[^;]*\);)", std::regex::ECMAScript | std::regex::multiline);
+  int seen = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(lib)) {
+    if (entry.path().extension() != ".h") continue;
+    const std::string header = read_file(entry.path().string());
+    EXPECT_NE(page.find("`" + entry.path().filename().string() + "`"), std::string::npos) << entry.path();
+    for (std::sregex_iterator it(header.begin(), header.end(), declaration), end; it != end; ++it) {
+      ++seen;
+      EXPECT_NE(page.find("`" + (*it)[1].str() + "("), std::string::npos)
+          << (*it)[1] << " (" << entry.path().filename().string() << ") is not in lib/README.md";
+    }
+  }
+  EXPECT_GE(seen, 27);  // the 27 calls of the eight headers today: the pattern still finds them
 }
 
 }  // namespace
