@@ -638,9 +638,10 @@ TEST_F(FedView, NonAsciiBytesShowAsHexAndFramesStayJson) {
   EXPECT_EQ(log[2]["hex"], "24 47 50 47 47 41 2C B5 62 01 07");
 }
 
-// Nobody watching: UART traffic, console lines and CAN frames cost nothing and log nothing;
-// levels are still kept. Watching again, the log starts at the next whole line and sentence.
-TEST_F(FedView, UnwatchedTrafficIsSkippedAndResumesAtABoundary) {
+// Nobody watching: UART traffic and CAN frames cost nothing and log nothing; levels and console
+// lines are still kept (a page that comes late gets them). Watching again, the log starts at the
+// next whole sentence.
+TEST_F(FedView, UnwatchedTrafficIsSkippedAndResumesAtABoundaryAndConsoleLinesAreKept) {
   const std::string gga = "$GPGGA,120000.00,5212.31800,N,00007.30800,E,1,08,0.9,12.0,M,0.0,M,,*";
   unsigned sum = 0;
   for (std::size_t i = 1; i + 1 < gga.size(); ++i) sum ^= static_cast<unsigned char>(gga[i]);
@@ -651,8 +652,9 @@ TEST_F(FedView, UnwatchedTrafficIsSkippedAndResumesAtABoundary) {
 
   FrameCursor c;
   view_.set_watching(false);
-  std::size_t bytes = 0;
+  std::size_t bytes = 0, lines = 0;
   while (bytes < 1000) {
+    ++lines;
     wire(kGps, true, bytes_of(good + "\r\n"));
     tx(0, "unseen\n");
     bytes += good.size() + 2 + 7;
@@ -662,7 +664,8 @@ TEST_F(FedView, UnwatchedTrafficIsSkippedAndResumesAtABoundary) {
   view_.on_mcu_event(0, {10, 1, SEAR_EVENT_PIN_MODE, 13, {}});
   view_.on_mcu_event(0, {10, 1, SEAR_EVENT_PIN, 13, {}});
   Json f = frame(c);
-  EXPECT_TRUE(f["mcus"][0]["log"].empty()) << f["mcus"][0]["log"].dump();
+  ASSERT_EQ(f["mcus"][0]["log"].size(), lines) << f["mcus"][0]["log"].dump();
+  for (const Json& e : f["mcus"][0]["log"]) EXPECT_EQ(e["text"], "unseen");
   EXPECT_EQ(f["dropped"], 0);
   EXPECT_EQ(f["mcus"][0]["pins"]["13"], 1);
 
@@ -671,11 +674,12 @@ TEST_F(FedView, UnwatchedTrafficIsSkippedAndResumesAtABoundary) {
   tx(0, "ne\nwhole\n");
   f = frame(c);
   const Json& log = f["mcus"][0]["log"];
-  ASSERT_EQ(log.size(), 2u) << log.dump();
+  ASSERT_EQ(log.size(), 3u) << log.dump();
   EXPECT_EQ(log[0]["kind"], "nmea");
   EXPECT_EQ(log[0]["text"], good);
   EXPECT_TRUE(log[0]["crc_ok"].get<bool>());
-  EXPECT_EQ(log[1]["text"], "whole");
+  EXPECT_EQ(log[1]["text"], "half a line");
+  EXPECT_EQ(log[2]["text"], "whole");
 }
 
 // The same for an LMS2xx: a telegram under way when watching starts is skipped, ACK-looking data

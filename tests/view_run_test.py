@@ -294,6 +294,40 @@ class ViewRun(unittest.TestCase):
         self.assertEqual(sear.wait(), 0, sear.stderr())
         self.assertIn("reset by the viewer", sear.stderr())
 
+    def test_a_page_opened_late_gets_the_console_lines_said_before_it(self):
+        sear = Sear(["view", self.project_file(5), "--port", "0", "-q", "-o", "out"], self.dir)
+        first = sear.page()
+        first.send(cmd="speed", factor=0)
+        first.send(cmd="start")
+        first.until(lambda m: m["type"] == "status" and not m["paused"])
+        first.close()  # from here on no page watches, until the second comes
+        # The run's end is when its summary is written (sear view then keeps serving): only then
+        # does the late page come, so that most of the run had no page watching it.
+        summary = os.path.join(self.dir, "out", "summary.json")
+        deadline = time.time() + 60
+        while not os.path.exists(summary) and time.time() < deadline:
+            time.sleep(0.05)
+        late = sear.page()
+        frame = late.until(lambda m: m["type"] == "frame")
+        probe = next(m for m in frame["mcus"] if m["id"] == "probe.main")
+        lines = [e for e in probe["log"] if e["kind"] == "console"]
+        # The IR probe prints a line after each 100 ms delay and four 104 us conversions (plus a
+        # few 3.125 us HAL calls): one every 100.42 ms, each ending when its last byte is out
+        # (86.8 us a byte at 115200, so a digit more or less moves it by that). Every line since
+        # the first is there, none missing, and the last is less than a period before the
+        # frame's time, the late page coming at the run's end (50 lines; a frame holds 400).
+        self.assertGreater(len(lines), 0)
+        self.assertEqual([e["seq"] for e in lines], list(range(len(lines))), lines)
+        self.assertAlmostEqual(lines[0]["t"], 0.1 + 4 * 104e-6 + 13 * 86.8e-6, delta=0.0005)
+        gaps = [b["t"] - a["t"] for a, b in zip(lines, lines[1:])]
+        self.assertTrue(all(abs(g - 0.10042) < 0.0003 for g in gaps), gaps)
+        self.assertLess(frame["t"] - lines[-1]["t"], 0.10042 + 0.0003, (frame["t"], lines[-1]))
+        self.assertTrue(lines[0]["text"].startswith("adc "), lines[0])
+        self.assertAlmostEqual(frame["t"], 5, delta=1e-9)
+        late.close()
+        sear.proc.send_signal(signal.SIGINT)
+        self.assertEqual(sear.wait(), 0, sear.stderr())
+
     def test_replay_files_hold_hello_scene_and_a_frame_every_period_identically(self):
         p = self.project_file(1)
         for name in ("a", "b"):

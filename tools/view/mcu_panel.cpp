@@ -48,7 +48,6 @@ void McuPanel::reset() {
   pwm_.clear();
   servo_.clear();
   console_.clear();
-  console_hunting_ = false;  // a reset starts every line afresh
   stopped_.clear();
   for (PanelDevice& d : devices_) {
     d.has_truth = false;
@@ -60,8 +59,6 @@ void McuPanel::reset() {
 
 void McuPanel::set_watching(bool watching) {
   if (watching && !watching_) {
-    console_.clear();
-    console_hunting_ = true;
     for (PanelDevice& d : devices_) {
       if (d.to_device) d.to_device->resync();
       if (d.from_device) d.from_device->resync();
@@ -91,12 +88,10 @@ void McuPanel::on_event(const sear_event& e, LogRing& log) {
       else servo_.erase(e.index);
       break;
     case SEAR_EVENT_UART_TX: {
-      if (!watching_ || static_cast<int>(e.index) != console_uart_) break;
+      // Console lines are logged whether or not a page watches (a few a second cost nothing), so
+      // that a page opened after the run started gets what was said before it.
+      if (static_cast<int>(e.index) != console_uart_) break;
       const char c = static_cast<char>(e.value);
-      if (console_hunting_) {  // the rest of a line begun while nobody watched
-        console_hunting_ = c != '\n';
-        break;
-      }
       if (c != '\n' && c != '\r') append_printable(console_, static_cast<unsigned char>(c));
       if (c == '\n' || console_.size() >= kMaxConsoleLine) {
         LogEntry& entry = log.add();

@@ -46,9 +46,9 @@ class McuPanel {
   void on_reading(std::size_t device, const double* values, std::size_t count);
   void on_wire_bytes(std::size_t device, bool from_device, const serial_byte* bytes, std::size_t count, LogRing& log);
   void stopped(const std::string& why) { stopped_ = why; }
-  // Not watching: console bytes and UART traffic are neither decoded nor logged (levels, samples
-  // and readings still are: they cost an array write). Watching again, each resumes at its next
-  // message boundary (the next line, '$', STX) so that no torn message shows.
+  // Not watching: UART traffic is neither decoded nor logged (console lines, levels, samples and
+  // readings still are: they cost little). Watching again, each UART stream resumes at its next
+  // message boundary ('$', STX) so that no torn message shows.
   void set_watching(bool watching);
   void reset();
 
@@ -65,7 +65,6 @@ class McuPanel {
   std::string console_;           // the line being printed
   std::string stopped_;           // empty: running
   bool watching_ = true;
-  bool console_hunting_ = false;  // watching again: skipping to the end of the line under way
   std::vector<LogEntry> decoded_;  // scratch for UART streams
 };
 

@@ -116,6 +116,12 @@ std::uint64_t ViewModel::pending_entries(const FrameCursor& cursor) const {
   return next > from ? next - from : 0;
 }
 
+FrameCursor ViewModel::recent_cursor() const {
+  const std::uint64_t next = s_->log.next_seq();
+  const std::uint64_t held = std::max(s_->log.oldest_seq(), s_->log.cleared_at());
+  return FrameCursor{next - held > kMaxEntriesPerFrame ? next - kMaxEntriesPerFrame : held};
+}
+
 std::string ViewModel::frame_json(const Simulation& sim, FrameCursor& cursor, std::size_t stream_cap,
                                   std::size_t max_entries) {
   State& s = *s_;

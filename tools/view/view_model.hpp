@@ -37,9 +37,13 @@ class ViewModel final : public RunTap {
   // Entries logged after `cursor` (since the last reset); more than kLogCapacity means some are
   // gone from the ring.
   std::uint64_t pending_entries(const FrameCursor& cursor) const;
+  // A cursor at the newest kMaxEntriesPerFrame entries the ring holds since the last reset: a
+  // frame from it, with whole streams, drops nothing (a page's first frame, its recent log).
+  FrameCursor recent_cursor() const;
   // Whether a page watches (true until told otherwise). Not watching, the model neither decodes
-  // UART traffic nor logs console lines or CAN frames: a run with no page connected pays for
-  // neither. Watching again, each stream resumes at its next whole line, sentence or telegram.
+  // UART traffic nor logs CAN frames: a run with no page connected pays for neither. Watching
+  // again, each stream resumes at its next whole sentence or telegram. Console lines are always
+  // logged, so that a page that connects late gets the recent ones.
   void set_watching(bool watching);
   // A replay file watches the whole run: set_watching(false) no longer stops the log.
   void keep_watching();

@@ -108,8 +108,14 @@ void ViewSession::send_state(const Simulation& sim) {
   rate_wall_ = now;
   rate_sim_s_ = sim.time_s();
   next_frame_ = now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1 / kFramesPerSecond));
+  // A page that connected since the last frame gets the log the ring still holds (its newest
+  // entries, the console lines said before it came); pages already watching skip, by their
+  // numbers, the entries they had.
+  const bool new_page = server_->connections() != connections_seen_;
+  if (new_page) cursor_ = model_.recent_cursor();
   connections_seen_ = server_->connections();
-  server_->send_frame(model_.frame_json(sim, cursor_, kStreamEntriesPerFrame), status_json(sim.time_s()));
+  server_->send_frame(model_.frame_json(sim, cursor_, new_page ? ViewModel::kWholeStreams : kStreamEntriesPerFrame),
+                      status_json(sim.time_s()));
 }
 
 ViewSession::Gate ViewSession::before_step(Simulation& sim) {

@@ -55,6 +55,7 @@ var SEAR = window.SEAR || (window.SEAR = {});
     this.readings = part("readings and truth", el("table", "readings"));
     this.latest = null;
     this.dropped = 0;
+    this.lastSeq = -1;
   }
 
   Panel.prototype.clearLogs = function () {
@@ -64,6 +65,12 @@ var SEAR = window.SEAR || (window.SEAR = {});
   };
 
   Panel.prototype.addEntry = function (e) {
+    // A page that connects gets the recent log in its first frame; so do the pages already
+    // watching, which have those entries: the numbers tell.
+    if (typeof e.seq === "number") {
+      if (e.seq <= this.lastSeq) return;
+      this.lastSeq = e.seq;
+    }
     var stamp = (typeof e.t === "number" ? e.t.toFixed(3) : "") + " ";
     if (e.kind === "console") {
       appendBounded(this.console, el("div", null, stamp + e.text));
