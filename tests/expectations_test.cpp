@@ -483,6 +483,26 @@ TEST(ExpectationChecker, PendingExpectationsFailAtTheTimeoutOrTheEnd) {
   EXPECT_EQ(result(early, "running").time_ns, 3 * kMs);
 }
 
+// An interrupted run (Ctrl-C, a viewer closed before Start) decides only what was due by its end:
+// what it met passes, what fell due fails, and the rest stays undecided rather than failed.
+TEST(ExpectationChecker, AnInterruptedRunLeavesWhatWasNotYetDueUndecided) {
+  const Scenario s = scenario(R"(
+    <console mcu="rover.main" matches="ready" name="ready"/>
+    <console mcu="rover.main" matches="boot" before="0.002" name="boot"/>
+    <console mcu="rover.main" matches="said" name="said"/>
+    <console mcu="rover.main" never="fault" name="no fault"/>)",
+                              "timeout=\"0.02\"");
+  ExpectationChecker c(s, project());
+  send(c, 0, "said\n", 0, 115200);  // 5 bytes at 86.8 us: on the wire by 0.43 ms
+  world(c, 0, 3 * kMs);
+  c.finish(3 * kMs, true);
+  EXPECT_EQ(result(c, "said").verdict, Verdict::Passed);
+  EXPECT_EQ(result(c, "boot").verdict, Verdict::Failed);  // due at 2 ms, before the interruption
+  EXPECT_EQ(result(c, "boot").time_ns, 2 * kMs);
+  EXPECT_EQ(result(c, "ready").verdict, Verdict::Pending);     // due at the 20 ms timeout
+  EXPECT_EQ(result(c, "no fault").verdict, Verdict::Pending);  // watched until then
+}
+
 // The world's own steps: the rover rests at its start pose.
 TEST(ExpectationChecker, WatchesASimulation) {
   const Scenario s = scenario(R"(

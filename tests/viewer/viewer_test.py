@@ -197,6 +197,9 @@ def live_case(sear, work, env, robots, profile):
         driver.get(viewer.url + "?camera=top")
         wait_for("first frame", lambda: int(dataset(driver, "frames") or 0) >= 1, 30)
         check(float(dataset(driver, "simTime") or -1) == 0, "1. waits at t = 0 (%s)" % dataset(driver, "simTime"))
+        wait_for("the start hint", lambda: dataset(driver, "state") == "waiting", 10)
+        hint = driver.find_element("id", "status").text
+        check("press Space or Start" in hint, "1. the held start says what to do (%r)" % hint)
         ActionChains(driver).send_keys(" ").perform()
         wait_for("frames", lambda: int(dataset(driver, "frames") or 0) > 5, 10)
         check(dataset(driver, "mode") == "live", "1. hello says live mode (mode=%s)" % dataset(driver, "mode"))

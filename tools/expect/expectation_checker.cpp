@@ -363,7 +363,7 @@ void ExpectationChecker::resolve_stop(std::size_t m) {
   }
 }
 
-void ExpectationChecker::finish(std::int64_t end_ns) {
+void ExpectationChecker::finish(std::int64_t end_ns, bool interrupted) {
   for (std::size_t m = 0; m < mcus_.size(); ++m) {
     if (mcus_[m].stop_ns != INT64_MAX) continue;  // resolved at its stop
     take(m, end_ns, true);
@@ -375,6 +375,7 @@ void ExpectationChecker::finish(std::int64_t end_ns) {
   for (std::size_t i = 0; i < results_.size(); ++i) {
     if (results_[i].verdict != Verdict::Pending) continue;
     const Expectation& e = scenario_.expectations[i];
+    if (interrupted && deadline(e) > end_ns) continue;
     const std::int64_t at = std::min(deadline(e), end_ns);
     const auto* c = std::get_if<ConsoleExpect>(&e.what);
     if ((c && c->never) || std::holds_alternative<RunningExpect>(e.what) ||

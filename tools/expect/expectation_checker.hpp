@@ -52,7 +52,9 @@ class ExpectationChecker final : public RunTap {
   // The same by its "robot.mcu" id, as Lockstep::stops() names it; an unknown id is ignored.
   void mcu_stopped(const std::string& mcu, std::int64_t time_ns, std::string why);
   // The run ended at `end_ns`: what is still pending fails (or, for "never" kinds, passes) there.
-  void finish(std::int64_t end_ns);
+  // An interrupted run (Ctrl-C, a closed viewer) decides only what was due by then: the rest
+  // stays Pending, undecided, as its firmware was never given the time to meet it.
+  void finish(std::int64_t end_ns, bool interrupted = false);
 
   // Every expectation is decided: the run may stop.
   bool decided() const;

@@ -48,12 +48,17 @@ std::string summary_text(const Simulation& sim, const RunOutcome& o) {
     out += fmt::format("  mcu {}: {} bytes queued on uart{} never sent ({})\n", n.mcu, n.bytes.size(), n.port,
                        n.mcu_stopped ? "it stopped" : "the run ended");
   for (const auto& e : o.expectations)
-    if (e.verdict != "passed") out += fmt::format("  expectation failed at {:.3f} s: {}: {}\n", e.time_s, e.name, e.seen);
+    if (e.verdict == "failed") out += fmt::format("  expectation failed at {:.3f} s: {}: {}\n", e.time_s, e.name, e.seen);
+  const auto count = [&](const char* verdict) {
+    return std::count_if(o.expectations.begin(), o.expectations.end(),
+                         [&](const auto& e) { return e.verdict == verdict; });
+  };
+  // Undecided only when the run was interrupted before their deadlines: not failures.
   if (!o.expectations.empty())
-    out += fmt::format("  expectations: {} of {} passed\n",
-                       std::count_if(o.expectations.begin(), o.expectations.end(),
-                                     [](const auto& e) { return e.verdict == "passed"; }),
-                       o.expectations.size());
+    out += fmt::format("  expectations: {} of {} passed{}\n", count("passed"), o.expectations.size(),
+                       count("undecided") ? fmt::format(", {} undecided (the run was interrupted before their deadlines)",
+                                                        count("undecided"))
+                                          : "");
   for (const auto& port : o.host_ports)
     out += fmt::format("  {} on the host: {}{}{}\n", port.name, port.path, port.link.empty() ? "" : " (link " + port.link + ")",
                        port.dropped ? fmt::format(", {} dropped", port.dropped) : "");

@@ -314,7 +314,7 @@ int run_command(const RunOptions& options) {
     capture.finish(sim.time_ns());
     const bool interrupted = stop_requested();
     if (checker) {
-      checker->finish(sim.time_ns());
+      checker->finish(sim.time_ns(), interrupted);
       for (const auto& r : checker->results())
         if (r.verdict == Verdict::Failed) fmt::print(stderr, "sear: {}\n", failure_text(r));
     }
@@ -340,7 +340,10 @@ int run_command(const RunOptions& options) {
     if (controller_gone) outcome.status = "lcm controller gone";
     if (checker)
       for (const auto& r : checker->results())
-        outcome.expectations.push_back({r.expectation->name, r.verdict == Verdict::Passed ? "passed" : "failed",
+        outcome.expectations.push_back({r.expectation->name,
+                                        r.verdict == Verdict::Passed   ? "passed"
+                                        : r.verdict == Verdict::Failed ? "failed"
+                                                                       : "undecided",
                                         static_cast<double>(r.time_ns) * 1e-9, r.seen});
     std::vector<const BoundedFile*> outputs = trace.outputs();
     for (const auto* f : capture.outputs()) outputs.push_back(f);

@@ -92,9 +92,10 @@ void ViewSession::start_run(Simulation& sim) {
 
 std::string ViewSession::status_json(double t_s) const {
   std::string reason = end_reason_;
-  if (!ended_ && waiting_start_) reason = "waiting for start (Space)";
+  const bool waiting = !ended_ && waiting_start_;
+  if (waiting) reason = "press Space or Start to begin";
   const nlohmann::json status = {{"type", "status"},   {"t", std::round(t_s * 1e6) / 1e6},
-                                 {"paused", paused_},  {"speed", speed_},
+                                 {"paused", paused_},  {"waiting", waiting}, {"speed", speed_},
                                  {"rtf", std::round(rtf_ * 100) / 100},
                                  {"ended", ended_},    {"reason", reason}};
   return status.dump();

@@ -167,9 +167,12 @@ var SEAR = window.SEAR || (window.SEAR = {});
   }
 
   function onStatus(m) {
-    var state = m.ended ? "ended" : (m.paused ? "paused" : "running");
+    // Held at t = 0 for Start is not a pause the user made: say what to do.
+    view.waiting = !!m.waiting;
+    var state = m.ended ? "ended" : (m.waiting ? "waiting" : (m.paused ? "paused" : "running"));
     var speed = m.speed ? m.speed + "x" : "max";
-    var text = state + (m.ended && m.reason ? ": " + m.reason : "") + " · speed " + speed +
+    var text = (m.waiting ? "waiting at t = 0: " + (m.reason || "press Space or Start") : state) +
+               (m.ended && m.reason ? ": " + m.reason : "") + " · speed " + speed +
                " · RTF " + (typeof m.rtf === "number" ? m.rtf.toFixed(2) : "-") +
                (m.frames_skipped ? " · " + m.frames_skipped + " frames skipped (slow link)" : "");
     view.setState(state, text);

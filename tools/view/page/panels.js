@@ -97,7 +97,9 @@ var SEAR = window.SEAR || (window.SEAR = {});
   Panel.prototype.render = function () {
     var m = this.latest;
     if (!m) return;
-    this.state.textContent = (m.running ? " running" : " stopped" + (m.stopped ? ": " + m.stopped : "")) +
+    var waiting = SEAR.view && SEAR.view.waiting;
+    this.state.textContent = (m.running ? (waiting ? " ready, waiting for Start" : " running")
+                                        : " stopped" + (m.stopped ? ": " + m.stopped : "")) +
                              (this.dropped ? " · " + this.dropped + " log entries dropped" : "");
     this.state.className = "mcu-state " + (m.running ? "ok" : "bad");
     var pins = this.pins;
