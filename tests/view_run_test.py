@@ -330,6 +330,21 @@ class ViewRun(unittest.TestCase):
         sear.proc.send_signal(signal.SIGINT)
         self.assertEqual(sear.wait(), 0, sear.stderr())
 
+    def test_a_short_run_waits_for_its_first_page_and_keeps_its_end_on_show(self):
+        # Half a second at full speed is over in a few tens of milliseconds, before a browser is
+        # up; --view-wait holds it at t = 0 until a page comes, --view-keep serves its end.
+        sear = Sear(["run", self.project_file(0.5), "--view", "--view-wait", "60", "--view-keep", "--port", "0",
+                     "-q", "-o", "out"], self.dir)
+        page = sear.page()
+        first = page.until(lambda m: m["type"] == "frame")
+        self.assertEqual(first["t"], 0, "the run waited for the page")
+        end = page.until(lambda m: m["type"] == "status" and m["ended"])
+        self.assertAlmostEqual(end["t"], 0.5, delta=1e-9)
+        self.assertIsNone(sear.proc.poll(), "the run's end stays on show")
+        page.close()
+        sear.proc.send_signal(signal.SIGINT)
+        self.assertEqual(sear.wait(), 0, sear.stderr())
+
     def test_replay_files_hold_hello_scene_and_a_frame_every_period_identically(self):
         p = self.project_file(1)
         for name in ("a", "b"):

@@ -39,7 +39,8 @@ struct RunOptions {
   std::string view_bind = "127.0.0.1";  // its address (--bind)
   int view_port = 8080;                 // its port (--port); 0: any free one
   bool view_wait_start = false;         // `sear view`: hold at t = 0 until the page's Start
-  bool view_keep_serving = false;       // `sear view`: serve the final state until Ctrl-C
+  bool view_keep_serving = false;       // `sear view`, `run --view-keep`: serve the final state until Ctrl-C
+  double view_wait_page_s = 0;          // `run --view-wait S`: hold at t = 0 until a page connects
   std::string replay;                   // write the run's replay here (--replay)
   double replay_rate_hz = 20;           // its frames per simulated second (--replay-rate)
 };

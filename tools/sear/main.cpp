@@ -159,6 +159,16 @@ int main(int argc, char** argv) {
   };
   add_view_address(run_cmd, run)->needs(run_view);
   run_cmd->get_option("--bind")->needs(run_view);
+  // A short run ends before a browser can connect: hold it at t = 0 for the first page, and keep
+  // its end on show, when asked.
+  run_cmd
+      ->add_option("--view-wait", run.view_wait_page_s,
+                   "Hold at t = 0 until a page connects, for at most S seconds of wall time (0: do not wait)")
+      ->type_name("S")
+      ->needs(run_view)
+      ->check(finite_number(0, 86400, false, "0..86400 seconds"));
+  run_cmd->add_flag("--view-keep", run.view_keep_serving, "After the run, serve its final state until Ctrl-C")
+      ->needs(run_view);
   run_cmd->add_option("--replay", run.replay,
                       "Write the run's replay into FILE (gzip, the viewer's messages a line each) for `sear view --replay FILE`")
       ->type_name("FILE");
@@ -227,6 +237,7 @@ int main(int argc, char** argv) {
   if (view_cmd->parsed()) {
     if (!view_replay.empty()) return sear::view_replay_command(view_replay, view.view_bind, view.view_port);
     view.view_wait_start = !view_start;
+    if (!view.realtime) view.realtime = 1.0;  // `sear view` watches at real time unless told otherwise
     return sear::run_command(view);
   }
   if (sensors_cmd->parsed()) return sear::sensors_command(sensors_format);

@@ -179,7 +179,8 @@ int run_command(const RunOptions& options) {
       view = std::make_unique<ViewSession>(
           *project, *view_model,
           ViewSessionOptions{view_server_options(options.view_bind, options.view_port),
-                             options.realtime.value_or(options.view_keep_serving ? 1.0 : 0.0), options.view_wait_start});
+                             options.realtime.value_or(0.0), options.view_wait_start,
+                             options.view_wait_page_s});
       fmt::print(stderr, "sear: viewer on {}\n", view->server().url());
     }
     std::unique_ptr<ReplayFile> replay;

@@ -51,7 +51,8 @@ ViewSession::ViewSession(const ProjectDesc& project, ViewModel& model, const Vie
     : model_(model),
       server_(std::make_unique<ViewServer>(options.server)),
       speed_(options.speed),
-      waiting_start_(options.wait_for_start) {
+      waiting_start_(options.wait_for_start),
+      wait_for_page_s_(options.wait_for_page_s) {
   paused_ = waiting_start_;
   for (std::size_t r = 0; r < project.robots.size(); ++r) {
     const RobotDesc& rd = project.robots[r];
@@ -120,6 +121,16 @@ void ViewSession::send_state(const Simulation& sim) {
 }
 
 ViewSession::Gate ViewSession::before_step(Simulation& sim) {
+  if (wait_for_page_s_ > 0) {
+    // Once, before the first step: a run shorter than a browser's start-up would be over before
+    // anyone saw it.
+    const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(wait_for_page_s_));
+    wait_for_page_s_ = 0;
+    while (!server_->has_clients() && !stop_requested() && Clock::now() < until) std::this_thread::sleep_for(kHoldPoll);
+    if (server_->has_clients()) send_state(sim);  // the page sees where it starts, t = 0
+    pace_.anchor(sim.time_s());
+  }
   for (;;) {
     if (server_->has_commands())
       for (const ViewCommand& c : server_->take_commands()) {

@@ -24,6 +24,7 @@ struct ViewSessionOptions {
   ViewServerOptions server;
   double speed = 0;             // times real time; 0: as fast as possible
   bool wait_for_start = false;  // hold at t = 0 until a page says start
+  double wait_for_page_s = 0;   // hold at t = 0 until a page connects, at most this long (wall)
 };
 
 class ViewSession {
@@ -70,6 +71,7 @@ class ViewSession {
   std::set<std::string> warned_;  // robots whose keys were refused, told once each
   double speed_;
   bool waiting_start_;
+  double wait_for_page_s_;  // before the first step only
   bool paused_ = false;
   bool holding_ = false;  // before_step is holding: the pages were sent the state it holds at
   bool reset_ = false;
