@@ -72,7 +72,12 @@ static void hand_over(enum sear_request request) {
 
 void engine_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns) {
   struct sear_link *link = engine.link;
-  if (link->event_count >= SEAR_LINK_MAX_EVENTS) hand_over(SEAR_REQUEST_DRAIN);
+  if (link->event_count >= SEAR_LINK_MAX_EVENTS) {
+    /* The clock goes with the events, as the native HAL's does: the simulator takes a full
+     * queue at an unmoved clock for a loop that takes no time, and no event may lie past it. */
+    link->clock_ns = engine_now_ns();
+    hand_over(SEAR_REQUEST_DRAIN);
+  }
   struct sear_event *e = &link->events[link->event_count];
   e->time_ns = time_ns;
   e->value = value;
@@ -346,11 +351,13 @@ int main(int argc, char **argv) {
   avr_global_logger_set(logger);
   refuse_high_adc_channels();
   load_chip(elf, report);
-  mcu_devices_init(engine.link);
   avr_pins_init();
   avr_usarts_init();
   avr_buses_init();
   wait_for_turn();
+  /* The devices start within the first turn, as in the native engine, so that the levels they
+   * drive at once reach the simulator with that turn's events, and on pins that exist. */
+  mcu_devices_init(engine.link);
   uint64_t quanta = 0;
   for (;;) {
     struct sear_link *link = engine.link;
