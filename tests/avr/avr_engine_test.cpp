@@ -78,6 +78,23 @@ TEST(AvrEngine, Timer1CompareInterruptTogglesAPinEvery16000Cycles) {
   EXPECT_LE(report["stack"]["worst_depth_bytes"].get<int>(), 32);
 }
 
+// Timer1 in phase-correct 8-bit PWM at clk/64, as the Arduino core and SEAR's HAL leave timers
+// 1..5: the chip counts 0..255..0 and overflows every 2 * 255 * 64 = 32640 cycles (datasheet
+// 17.9.4), 14.7 times in 30 ms. simavr 1.6 counts single-slope, so the engine gives the mode its
+// TOP with 256 counts a period, 16384 cycles, 29.3 times in 30 ms: at most twice the chip's rate.
+// Left undefined, as simavr leaves the mode, the timer overflowed at every count (7500 times).
+TEST(AvrEngine, APhaseCorrectTimerOverflowsOncePerItsPeriodNotEveryCount) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("timer1_phase_correct.c")), "", 0.03));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto report = nlohmann::json::parse(run.file("summary.json"))["avr_engines"]["rover.main"];
+  ASSERT_EQ(report["isrs"].size(), 1u) << report.dump();
+  EXPECT_EQ(report["isrs"][0]["vector"], 20);  // TIMER1_OVF, datasheet table 14-1
+  const auto entries = report["isrs"][0]["entries"].get<int>();
+  EXPECT_GE(entries, 14);
+  EXPECT_LE(entries, 30);
+}
+
 TEST(AvrEngine, AdcFreeRunningInterruptEvery1664CyclesReadsTheRangersVolts) {
   TempDir dir;
   // A GP2D12 without noise seeing nothing: its output is the model's for no target.
