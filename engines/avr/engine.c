@@ -12,7 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 #include <unistd.h>
 
 #include <sim_avr.h>
@@ -22,20 +21,17 @@
 #include <sim_interrupts.h>
 
 #include "devices.h"
-#include "lockstep_handoff.h"
+#include "firmware_end.h"
 #include "profile.h"
 #include "readings.h"
 
 struct engine engine;
 
-/* Spinning this long covers a physics step; beyond it the simulator is busy elsewhere. */
-#define SPIN_NS 200000
 /* The longest stretch the chip runs without a look at its timer outputs: PWM duty and servo
  * pulses are read from registers (simavr 1.6 gives no PWM pin edges), so a change is stamped
  * at most this late; 1024 cycles are 64 us at 16 MHz. */
 #define SLICE_CYCLES 1024u
 
-static pid_t simulator;
 static uint64_t slice_end_cycle;
 static char last_error[160]; /* simavr's last complaint, for the crash report */
 
@@ -57,44 +53,30 @@ int64_t engine_now_ns(void) {
   return t < engine.turn_start_ns ? engine.turn_start_ns : t;
 }
 
-static void wait_for_turn(void) {
-  struct sear_link *link = engine.link;
-  while (!sear_handoff_wait(&link->turn, SEAR_TURN_FIRMWARE, &link->firmware_waiting, SPIN_NS, 1000000000))
-    if (getppid() != simulator) _exit(3);
-}
-
 static void hand_over(enum sear_request request) {
-  struct sear_link *link = engine.link;
-  link->request = (uint32_t)request;
-  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
-  wait_for_turn();
+  sear_end_give(engine.link, request);
+  sear_end_wait_for_turn(engine.link);
 }
 
 void engine_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns) {
   struct sear_link *link = engine.link;
-  if (link->event_count >= SEAR_LINK_MAX_EVENTS) {
+  if (sear_end_events_full(link)) {
     /* The clock goes with the events, as the native HAL's does: the simulator takes a full
      * queue at an unmoved clock for a loop that takes no time, and no event may lie past it. */
     link->clock_ns = engine_now_ns();
     hand_over(SEAR_REQUEST_DRAIN);
   }
-  struct sear_event *e = &link->events[link->event_count];
-  e->time_ns = time_ns;
-  e->value = value;
-  e->kind = (uint8_t)kind;
-  e->index = index;
-  __atomic_store_n(&link->event_count, link->event_count + 1, __ATOMIC_RELEASE);
+  sear_end_push_event(link, kind, index, value, time_ns);
 }
 
 void engine_fatal(const char *format, ...) {
   struct sear_link *link = engine.link;
   va_list args;
   va_start(args, format);
-  vsnprintf(link->fatal, sizeof link->fatal, format, args);
+  sear_end_set_fatal(link, format, args);
   va_end(args);
   fprintf(stderr, "sear-avr-engine: %s\n", link->fatal);
-  link->request = SEAR_REQUEST_FATAL;
-  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
+  sear_end_give(link, SEAR_REQUEST_FATAL);
   _exit(70);
 }
 
@@ -269,29 +251,6 @@ static void run_quantum(void) {
   }
 }
 
-static void attach_link(void) {
-  const char *fd_text = getenv(SEAR_LINK_FD_ENV);
-  if (!fd_text) {
-    fprintf(stderr, "sear-avr-engine runs an AVR image inside the SEAR simulator: start it through a project "
-                    "whose <mcu> says engine=\"avr\", with `sear run PROJECT`.\n");
-    _exit(2);
-  }
-  const int fd = atoi(fd_text);
-  void *page = mmap(NULL, sizeof(struct sear_link), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-  if (page == MAP_FAILED) {
-    perror("sear-avr-engine: mapping the lockstep link");
-    _exit(2);
-  }
-  close(fd);
-  engine.link = page;
-  if (engine.link->magic != SEAR_LINK_MAGIC || engine.link->version != SEAR_LINK_VERSION) {
-    fprintf(stderr, "sear-avr-engine: this engine does not match the simulator's link; rebuild it\n");
-    _exit(2);
-  }
-  const char *sim_pid = getenv(SEAR_SIM_PID_ENV);
-  simulator = sim_pid ? (pid_t)atol(sim_pid) : getppid();
-}
-
 /* Debian's simavr 1.6 reads ADC channels 8..15 wrongly (fixed in 1.7): refused rather than
  * answered with the wrong channel's volts. */
 static void refuse_high_adc_channels(void) {
@@ -344,7 +303,10 @@ int main(int argc, char **argv) {
     else elf = argv[i];
   }
   setvbuf(stdout, NULL, _IONBF, 0);
-  attach_link();
+  engine.link = sear_end_attach("sear-avr-engine",
+                                "sear-avr-engine runs an AVR image inside the SEAR simulator: start it through a "
+                                "project whose <mcu> says engine=\"avr\", with `sear run PROJECT`.",
+                                "sear-avr-engine: this engine does not match the simulator's link; rebuild it");
   if (!elf) engine_fatal("sear-avr-engine: no AVR image named (usage: sear-avr-engine --clock-hz HZ FIRMWARE.elf)");
   if (!(clock_hz >= 1e5 && clock_hz <= 32e6)) engine_fatal("--clock-hz %g: the ATmega2560 runs at up to 16 MHz", clock_hz);
   engine.clock_hz = (uint64_t)clock_hz;
@@ -354,7 +316,7 @@ int main(int argc, char **argv) {
   avr_pins_init();
   avr_usarts_init();
   avr_buses_init();
-  wait_for_turn();
+  sear_end_wait_for_turn(engine.link);
   /* The devices start within the first turn, as in the native engine, so that the levels they
    * drive at once reach the simulator with that turn's events, and on pins that exist. */
   mcu_devices_init(engine.link);
