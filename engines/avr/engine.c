@@ -12,28 +12,26 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 #include <unistd.h>
 
 #include <sim_avr.h>
 #include <sim_elf.h>
 #include <avr_extint.h>
+#include <sim_core.h>
+#include <sim_interrupts.h>
 
 #include "devices.h"
-#include "lockstep_handoff.h"
+#include "firmware_end.h"
 #include "profile.h"
 #include "readings.h"
 
 struct engine engine;
 
-/* Spinning this long covers a physics step; beyond it the simulator is busy elsewhere. */
-#define SPIN_NS 200000
 /* The longest stretch the chip runs without a look at its timer outputs: PWM duty and servo
  * pulses are read from registers (simavr 1.6 gives no PWM pin edges), so a change is stamped
  * at most this late; 1024 cycles are 64 us at 16 MHz. */
 #define SLICE_CYCLES 1024u
 
-static pid_t simulator;
 static uint64_t slice_end_cycle;
 static char last_error[160]; /* simavr's last complaint, for the crash report */
 
@@ -55,39 +53,30 @@ int64_t engine_now_ns(void) {
   return t < engine.turn_start_ns ? engine.turn_start_ns : t;
 }
 
-static void wait_for_turn(void) {
-  struct sear_link *link = engine.link;
-  while (!sear_handoff_wait(&link->turn, SEAR_TURN_FIRMWARE, &link->firmware_waiting, SPIN_NS, 1000000000))
-    if (getppid() != simulator) _exit(3);
-}
-
 static void hand_over(enum sear_request request) {
-  struct sear_link *link = engine.link;
-  link->request = (uint32_t)request;
-  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
-  wait_for_turn();
+  sear_end_give(engine.link, request);
+  sear_end_wait_for_turn(engine.link);
 }
 
 void engine_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns) {
   struct sear_link *link = engine.link;
-  if (link->event_count >= SEAR_LINK_MAX_EVENTS) hand_over(SEAR_REQUEST_DRAIN);
-  struct sear_event *e = &link->events[link->event_count];
-  e->time_ns = time_ns;
-  e->value = value;
-  e->kind = (uint8_t)kind;
-  e->index = index;
-  __atomic_store_n(&link->event_count, link->event_count + 1, __ATOMIC_RELEASE);
+  if (sear_end_events_full(link)) {
+    /* The clock goes with the events, as the native HAL's does: the simulator takes a full
+     * queue at an unmoved clock for a loop that takes no time, and no event may lie past it. */
+    link->clock_ns = engine_now_ns();
+    hand_over(SEAR_REQUEST_DRAIN);
+  }
+  sear_end_push_event(link, kind, index, value, time_ns);
 }
 
 void engine_fatal(const char *format, ...) {
   struct sear_link *link = engine.link;
   va_list args;
   va_start(args, format);
-  vsnprintf(link->fatal, sizeof link->fatal, format, args);
+  sear_end_set_fatal(link, format, args);
   va_end(args);
   fprintf(stderr, "sear-avr-engine: %s\n", link->fatal);
-  link->request = SEAR_REQUEST_FATAL;
-  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
+  sear_end_give(link, SEAR_REQUEST_FATAL);
   _exit(70);
 }
 
@@ -176,13 +165,45 @@ static void check_resets(void) {
                  resets, (uint64_t)engine.avr->cycle);
 }
 
+/* One instruction, as simavr's own avr_callback_run_raw() runs it (avr_run() calls that through
+ * avr->run for each instruction), with its two per-instruction calls made only when they have
+ * work: the cycle timers when the first of them is due (simavr keeps them sorted, and our slice
+ * end is always one of them), the interrupt controller when an interrupt is pending or was just
+ * enabled (interrupt_state, which simavr's controller also returns on when 0). Those calls and
+ * avr_run()'s cost more host time than the instructions did (perf on the avoider: 45% against
+ * 30% in simavr's decoder); the avoider's outputs are the same bytes either way. */
+static inline int step(avr_t *avr) {
+  /* simavr puts its own callback in avr->run for what an instruction cannot do inside the core
+   * (the watchdog's reset); that one runs as simavr would run it. */
+  if (__builtin_expect(avr->run != avr_callback_run_raw, 0)) {
+    avr->run(avr);
+    return avr->state;
+  }
+  avr_flashaddr_t new_pc = avr->pc;
+  if (avr->state == cpu_Running) new_pc = avr_run_one(avr);
+  const avr_cycle_timer_slot_p first = avr->cycle_timers.timer;
+  avr_cycle_count_t sleep = 0;
+  if (avr->state == cpu_Sleeping || (first && first->when <= avr->cycle)) sleep = avr_cycle_timer_process(avr);
+  avr->pc = new_pc;
+  if (avr->state == cpu_Sleeping) {
+    if (!avr->sreg[S_I]) {
+      avr->state = cpu_Done; /* as simavr: asleep with interrupts off never wakes */
+      return avr->state;
+    }
+    avr->sleep(avr, sleep);
+    avr->cycle += 1 + sleep;
+  }
+  if (avr->interrupt_state && (avr->state == cpu_Running || avr->state == cpu_Sleeping)) avr_service_interrupts(avr);
+  return avr->state;
+}
+
 static void run_to(uint64_t cycle) {
   avr_t *avr = engine.avr;
   set_slice_end(cycle);
   while (avr->cycle < slice_end_cycle) {
     const uint32_t pc = avr->pc;
     const uint64_t before = avr->cycle;
-    const int state = avr_run(avr);
+    const int state = step(avr);
     avr_profile_count(pc, avr->cycle - before);
     /* Past the image is erased flash, which the chip would run through to a reset. */
     if (avr->pc >= engine.code_end)
@@ -230,29 +251,6 @@ static void run_quantum(void) {
   }
 }
 
-static void attach_link(void) {
-  const char *fd_text = getenv(SEAR_LINK_FD_ENV);
-  if (!fd_text) {
-    fprintf(stderr, "sear-avr-engine runs an AVR image inside the SEAR simulator: start it through a project "
-                    "whose <mcu> says engine=\"avr\", with `sear run PROJECT`.\n");
-    _exit(2);
-  }
-  const int fd = atoi(fd_text);
-  void *page = mmap(NULL, sizeof(struct sear_link), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-  if (page == MAP_FAILED) {
-    perror("sear-avr-engine: mapping the lockstep link");
-    _exit(2);
-  }
-  close(fd);
-  engine.link = page;
-  if (engine.link->magic != SEAR_LINK_MAGIC || engine.link->version != SEAR_LINK_VERSION) {
-    fprintf(stderr, "sear-avr-engine: this engine does not match the simulator's link; rebuild it\n");
-    _exit(2);
-  }
-  const char *sim_pid = getenv(SEAR_SIM_PID_ENV);
-  simulator = sim_pid ? (pid_t)atol(sim_pid) : getppid();
-}
-
 /* Debian's simavr 1.6 reads ADC channels 8..15 wrongly (fixed in 1.7): refused rather than
  * answered with the wrong channel's volts. */
 static void refuse_high_adc_channels(void) {
@@ -289,6 +287,7 @@ static void load_chip(const char *elf_path, const char *report_path) {
    * disabled (simavr #465); the chip only does so once INTn is enabled, which the extint module
    * still honours without strict triggering. */
   for (uint8_t n = 0; n < 8; ++n) avr_extint_set_strict_lvl_trig(avr, n, 0);
+  if (avr_timer_modes_define(avr) != 6) engine_fatal("libsimavr's ATmega2560 does not have the chip's six timers");
   core_reset = avr->reset;
   avr->reset = on_reset;
   engine.avr = avr;
@@ -304,18 +303,23 @@ int main(int argc, char **argv) {
     else elf = argv[i];
   }
   setvbuf(stdout, NULL, _IONBF, 0);
-  attach_link();
+  engine.link = sear_end_attach("sear-avr-engine",
+                                "sear-avr-engine runs an AVR image inside the SEAR simulator: start it through a "
+                                "project whose <mcu> says engine=\"avr\", with `sear run PROJECT`.",
+                                "sear-avr-engine: this engine does not match the simulator's link; rebuild it");
   if (!elf) engine_fatal("sear-avr-engine: no AVR image named (usage: sear-avr-engine --clock-hz HZ FIRMWARE.elf)");
   if (!(clock_hz >= 1e5 && clock_hz <= 32e6)) engine_fatal("--clock-hz %g: the ATmega2560 runs at up to 16 MHz", clock_hz);
   engine.clock_hz = (uint64_t)clock_hz;
   avr_global_logger_set(logger);
   refuse_high_adc_channels();
   load_chip(elf, report);
-  mcu_devices_init(engine.link);
   avr_pins_init();
   avr_usarts_init();
   avr_buses_init();
-  wait_for_turn();
+  sear_end_wait_for_turn(engine.link);
+  /* The devices start within the first turn, as in the native engine, so that the levels they
+   * drive at once reach the simulator with that turn's events, and on pins that exist. */
+  mcu_devices_init(engine.link);
   uint64_t quanta = 0;
   for (;;) {
     struct sear_link *link = engine.link;

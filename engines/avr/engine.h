@@ -45,6 +45,10 @@ void avr_usarts_take_quantum(void);  /* the link's rx[] for the quantum just beg
 int64_t avr_usarts_next_ns(void);    /* the next byte's stop-bit end, INT64_MAX if none */
 void avr_usarts_run_due(int64_t now_ns);
 
+/* Timers (timer_modes.c): defines the phase-correct PWM modes simavr 1.6 leaves undefined,
+ * before the firmware runs; returns how many timers it found. */
+int avr_timer_modes_define(struct avr_t *avr);
+
 /* SPI and TWI (buses.c). */
 void avr_buses_init(void);
 

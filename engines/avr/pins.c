@@ -66,10 +66,14 @@ static void tell_port_external(int p) {
   avr_ioctl(engine.avr, AVR_IOCTL_IOPORT_SET_EXTERNAL(port_names[p]), &e);
 }
 
+/* As in the native engine (hal/runtime/pins.c), a change of what a device drives reaches the
+ * simulator at the device's own time, for the waveforms. */
 void board_drive_pin(uint8_t pin, uint8_t level) {
   if (pin >= SEAR_LINK_PINS) return;
   const int p = pin_port_bit[pin] >> 3, bit = pin_port_bit[pin] & 7;
   const uint8_t m = (uint8_t)(1u << bit);
+  const uint8_t was = (ports[p].driven_mask & m) ? (uint8_t)(ports[p].driven >> bit & 1) : MCU_FLOATING;
+  if (was != level) engine_emit(SEAR_EVENT_PIN_DRIVEN, pin, level == MCU_FLOATING ? 2u : level, mcu_devices_time_ns());
   if (level == MCU_FLOATING) {
     ports[p].driven_mask = (uint8_t)(ports[p].driven_mask & ~m);
   } else {
@@ -140,12 +144,6 @@ void avr_pins_init(void) {
     avr_irq_register_notify(ports[p].irq + IOPORT_IRQ_REG_PORT, on_port, (void *)(intptr_t)p);
   }
   for (uint8_t pin = 0; pin < SEAR_LINK_PINS; ++pin) ports[pin_port_bit[pin] >> 3].pin_of_bit[pin_port_bit[pin] & 7] = pin;
-  /* Levels devices put on the board before the engine's pins existed (at their init). */
-  for (int p = 0; p < 11; ++p) {
-    tell_port_external(p);
-    for (int bit = 0; bit < 8; ++bit)
-      if (ports[p].driven_mask >> bit & 1) avr_raise_irq(ports[p].irq + bit, input_level(p, bit));
-  }
 }
 
 /* Timer outputs. Register data addresses from the ATmega2560 datasheet's register summary. */

@@ -136,8 +136,10 @@ void avr_profile_write(void) {
     uint64_t sum = 0;
     for (uint32_t w = from; w < to; ++w) sum += avr_profile_pc_cycles[w];
     if (!sum) continue;
-    int at = tops < TOP ? tops++ : TOP - 1;
-    if (at == TOP - 1 && tops == TOP && top[at].cycles >= sum) continue;
+    int at;
+    if (tops < TOP) at = tops++;
+    else if (top[TOP - 1].cycles >= sum) continue; /* not among the top ones */
+    else at = TOP - 1;
     top[at] = (struct function_total){symbols[s].name, sum};
     while (at > 0 && top[at - 1].cycles < top[at].cycles) {
       const struct function_total t = top[at - 1];

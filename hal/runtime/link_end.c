@@ -6,37 +6,22 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
-#include <sys/mman.h>
 #include <unistd.h>
 
-#include "lockstep_handoff.h"
+#include "firmware_end.h"
 #include "mcu_state.h"
 
 struct mcu sear_mcu;
 
-/* Spinning this long covers a physics step with room to spare; beyond it the simulator is
- * probably busy with other MCUs, and sleeping frees the core for them. */
-#define SPIN_NS 200000
-
-static pid_t simulator;
-
-/* Waits for the turn; a simulator that died without handing it over must not leave this process
- * waiting for ever. The parent-death signal the simulator set up kills it at once; this look,
- * once a second, is for the moment before that signal was armed. */
 static void wait_for_turn(void) {
-  struct sear_link *link = sear_mcu.link;
-  while (!sear_handoff_wait(&link->turn, SEAR_TURN_FIRMWARE, &link->firmware_waiting, SPIN_NS, 1000000000))
-    if (getppid() != simulator) _exit(3);
+  sear_end_wait_for_turn(sear_mcu.link);
   mcu_paint_after_wait(); /* its dead frames hold host times */
 }
 
 static void hand_over(enum sear_request request) {
-  struct sear_link *link = sear_mcu.link;
   if (sear_mcu.exiting) return; /* the simulator has let go of this MCU */
   sear_mcu.slow_path++;
-  link->request = (uint32_t)request;
-  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
+  sear_end_give(sear_mcu.link, request);
   wait_for_turn();
   sear_mcu.slow_path--;
 }
@@ -46,27 +31,19 @@ void mcu_link_exchange(void) { hand_over(SEAR_REQUEST_QUANTUM_DONE); }
 void mcu_link_first_turn(void) { wait_for_turn(); }
 
 void mcu_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64_t time_ns) {
-  struct sear_link *link = sear_mcu.link;
   if (sear_mcu.exiting) return;
-  if (link->event_count >= SEAR_LINK_MAX_EVENTS) hand_over(SEAR_REQUEST_DRAIN);
-  struct sear_event *e = &link->events[link->event_count];
-  e->time_ns = time_ns;
-  e->value = value;
-  e->kind = (uint8_t)kind;
-  e->index = index;
-  /* Published only once written, so a crash right after leaves no half event behind. */
-  __atomic_store_n(&link->event_count, link->event_count + 1, __ATOMIC_RELEASE);
+  if (sear_end_events_full(sear_mcu.link)) hand_over(SEAR_REQUEST_DRAIN);
+  sear_end_push_event(sear_mcu.link, kind, index, value, time_ns);
 }
 
 void mcu_fatal(const char *format, ...) {
   struct sear_link *link = sear_mcu.link;
   va_list args;
   va_start(args, format);
-  vsnprintf(link->fatal, sizeof link->fatal, format, args);
+  sear_end_set_fatal(link, format, args);
   va_end(args);
   if (sear_mcu.exiting) fprintf(stderr, "sear: after exit(): %s\n", link->fatal); /* nobody reads the link now */
-  link->request = SEAR_REQUEST_FATAL;
-  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
+  sear_end_give(link, SEAR_REQUEST_FATAL);
   _exit(70);
 }
 
@@ -80,33 +57,13 @@ static void at_exit(void) {
   after_exit = *link;
   sear_mcu.link = &after_exit;
   sear_mcu.exiting = 1;
-  link->request = SEAR_REQUEST_EXIT;
-  sear_handoff_give(&link->turn, SEAR_TURN_SIM, &link->sim_waiting);
+  sear_end_give(link, SEAR_REQUEST_EXIT);
 }
 
 void mcu_link_attach(void) {
-  const char *fd_text = getenv(SEAR_LINK_FD_ENV);
-  if (!fd_text) {
-    fprintf(stderr, "This firmware was built for the SEAR simulator: run it through a project, "
-                    "with `sear run PROJECT`.\n");
-    _exit(2);
-  }
-  const int fd = atoi(fd_text);
-  void *page = mmap(NULL, sizeof(struct sear_link), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-  if (page == MAP_FAILED) {
-    perror("sear: mapping the lockstep link");
-    _exit(2);
-  }
-  close(fd);
-  struct sear_link *link = page;
-  if (link->magic != SEAR_LINK_MAGIC || link->version != SEAR_LINK_VERSION) {
-    fprintf(stderr, "sear: this firmware's HAL runtime does not match the simulator; rebuild it\n");
-    _exit(2);
-  }
-  sear_mcu.link = link;
-  /* Named by the simulator rather than read from getppid(): if the simulator died before this
-   * ran, the parent is already the reaper. */
-  const char *sim_pid = getenv(SEAR_SIM_PID_ENV);
-  simulator = sim_pid ? (pid_t)atol(sim_pid) : getppid();
+  sear_mcu.link = sear_end_attach("sear",
+                                  "This firmware was built for the SEAR simulator: run it through a project, "
+                                  "with `sear run PROJECT`.",
+                                  "sear: this firmware's HAL runtime does not match the simulator; rebuild it");
   atexit(at_exit);
 }
