@@ -159,6 +159,9 @@ TEST(ViewScene, ListsEveryObstacleAndRobotWithTheProjectsSizes) {
   EXPECT_EQ(mcu["console_uart"], 0);
   EXPECT_EQ(named(mcu["devices"], "lidar")->at("wiring"), "uart 1");
   EXPECT_EQ(named(mcu["devices"], "ir")->at("wiring"), "adc 0");
+  // The panel labels each quantity with its unit: the GP2D12's truth is a distance in metres, its
+  // reading the volts on its output (reading_meaning.hpp's row for the part).
+  EXPECT_EQ(named(mcu["devices"], "ir")->at("units"), Json({{"distance", "m"}, {"output_voltage", "V"}}));
 }
 
 // A heightmap's grid comes as world.json has it, to the millimetre; a mesh of more triangles than

@@ -345,6 +345,33 @@ class ViewRun(unittest.TestCase):
         sear.proc.send_signal(signal.SIGINT)
         self.assertEqual(sear.wait(), 0, sear.stderr())
 
+    def test_garbage_from_a_page_harms_neither_the_run_nor_the_next_page(self):
+        sear = Sear(["run", self.project_file(1), "--view", "--view-wait", "60", "--view-keep", "--realtime", "1",
+                     "--port", "0", "-q", "-o", "out"], self.dir)
+        bad = sear.page()
+        bad.ws.send_binary(b"\x00\xff" * 1000)
+        bad.ws.send("x" * (10 * 1024 * 1024))
+        for text in ["{", "[" * 100000, "{" * 100000, '{"cmd":"step","n":NaN}', '{"cmd":"step","n":-5}',
+                     '{"cmd":"step","n":1e300}', '{"cmd":"speed","factor":NaN}', '{"cmd":"speed","factor":-1}',
+                     '{"cmd":"speed","factor":1e308}', '"cmd"', "null", '{"cmd":"key","key":"' + "k" * 5000 + '"}',
+                     '{"cmd":"key","key":"h","down":"yes","robot":42}']:
+            bad.ws.send(text)
+        for i in range(5000):
+            bad.send(cmd="speed", factor=1 + i % 2)
+        for _ in range(100):
+            bad.send(cmd="reset")
+        bad.send(cmd="speed", factor=1)
+        bad.close()
+        good = sear.page()
+        self.assertEqual(good.recv()["type"], "hello")
+        # The resets start the run over; whatever the burst did, it reaches its 1 s end at real time.
+        end = good.until(lambda m: m["type"] == "status" and m["ended"], timeout=120)
+        self.assertAlmostEqual(end["t"], 1, delta=1e-9)
+        good.close()
+        sear.proc.send_signal(signal.SIGINT)
+        self.assertEqual(sear.wait(), 0, sear.stderr())
+        self.assertIn("reset by the viewer", sear.stderr())
+
     def test_replay_files_hold_hello_scene_and_a_frame_every_period_identically(self):
         p = self.project_file(1)
         for name in ("a", "b"):

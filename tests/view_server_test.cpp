@@ -287,6 +287,41 @@ TEST(ViewServer, TheNinthPageIsRefusedWithAClearClose) {
   EXPECT_EQ(again.wait_for(1).size(), 1u);
 }
 
+// Connections held open lock no one out: 15 WebSockets (8 pages and 7 refused ones that never
+// read their close) and 50 connections that sent half a request and wait. A new page still gets
+// its files and a ninth WebSocket its 1013 close, within the 3 s a half-sent request may hold a
+// worker thread (the server's request timeout), where they used to wait for minutes.
+TEST(ViewServer, HeldConnectionsLeaveRoomForANewPage) {
+  PageDir dir;
+  ViewServer server(dir.options());
+  server.set_hello(R"({"type":"hello"})");
+  std::vector<int> held;
+  for (int i = 0; i < 15; ++i) held.push_back(raw_websocket(server.port()));
+  ASSERT_TRUE(eventually([&] { return server.clients() == 8; }));
+  for (int i = 0; i < 50; ++i) {
+    const int fd = connect_to(server.port());
+    ASSERT_GE(fd, 0);
+    send_all(fd, "GET / HTTP/1.1\r\nHost: " + host_of(server.port()) + "\r\n");
+    held.push_back(fd);
+  }
+  const int page = connect_to(server.port());
+  ASSERT_GE(page, 0);
+  send_all(page, "GET / HTTP/1.1\r\nHost: " + host_of(server.port()) + "\r\nConnection: close\r\n\r\n");
+  char head[12] = {};
+  EXPECT_TRUE(recv_exactly(page, head, sizeof head - 1)) << "no answer within 10 s";  // 3 s, and room
+  EXPECT_EQ(std::string(head), "HTTP/1.1 20");
+  ::close(page);
+  const int ninth = raw_websocket(server.port());
+  int opcode = 0;
+  std::string payload;
+  ASSERT_TRUE(read_ws_frame(ninth, opcode, payload));
+  EXPECT_EQ(opcode, MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE);
+  ASSERT_GE(payload.size(), 2u);
+  EXPECT_EQ((static_cast<unsigned char>(payload[0]) << 8) | static_cast<unsigned char>(payload[1]), 1013);
+  ::close(ninth);
+  for (int fd : held) ::close(fd);
+}
+
 // A page, three.js or a replay is never an old copy from the browser's cache.
 TEST(ViewServer, NothingServedIsCached) {
   PageDir dir;

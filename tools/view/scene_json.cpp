@@ -8,6 +8,7 @@
 
 #include "devices/mounting.hpp"
 #include "exporters/world_json.hpp"
+#include "lcm/reading_meaning.hpp"
 #include "physics/physics_world.hpp"
 #include "physics/scenery.hpp"
 #include "scene/device_kind.hpp"
@@ -243,7 +244,16 @@ Json robot_of(const RobotDesc& r) {
     Json devices = Json::array();
     for (const DeviceDesc& d : m.devices) {
       sensors.push_back(sensor_of(d, id));
-      devices.push_back({{"name", d.name}, {"element", d.kind ? d.kind->element : ""}, {"wiring", wiring_text(d)}});
+      Json device = {{"name", d.name}, {"element", d.kind ? d.kind->element : ""}, {"wiring", wiring_text(d)}};
+      // The unit of each quantity the frames' readings and truth name, for the panel to label them
+      // (a reading of the same quantity as the truth has its unit, reading_meaning.hpp).
+      if (d.kind) {
+        Json units = Json::object();
+        for (const ReadingMeaning* m : {&reading_meaning(d.kind->element), &output_meaning(d.kind->element)})
+          for (std::size_t i = 0; i < m->quantity.size() && i < m->unit.size(); ++i) units[m->quantity[i]] = m->unit[i];
+        device["units"] = std::move(units);
+      }
+      devices.push_back(std::move(device));
     }
     for (const MotorWiring& w : m.motors)
       devices.push_back({{"name", w.motor}, {"element", "motor"},

@@ -30,11 +30,18 @@
 namespace sear {
 namespace {
 
-// Worker threads: each open WebSocket keeps one; a few more serve the page's files meanwhile.
-constexpr const char* kWorkerThreads = "16";
-// Pages watching at once: half the worker threads, so that the page's files are still served to
-// a ninth page, which is told why it is refused.
+// Worker threads: each open WebSocket keeps one, and so does each connection whose request is
+// still being read. Well beyond the pages watching, so that connections that send half a request
+// and wait (50 of them from loopback used to lock every page out for minutes) leave threads to
+// serve a new page its files, or its refusal.
+constexpr const char* kWorkerThreads = "64";
+// Pages watching at once: so that the page's files are still served to a ninth page, which is
+// told why it is refused.
 constexpr std::size_t kMaxPages = 8;
+// How long a connection may take to send its request, and the longest a single read or write of
+// the page's files may wait: a request is a few hundred bytes, on loopback or a LAN a few ms. A
+// connection that holds a worker thread without finishing its request lets it go after this.
+constexpr int kRequestTimeoutMs = 3000;
 // WebSocket close code 1013, "try again later" (RFC 6455, 7.4.1 / IANA registry).
 constexpr unsigned kCloseTryLater = 1013;
 // A command is a few dozen bytes; anything much longer is not one. civetweb (1.15) has no option
@@ -479,13 +486,14 @@ ViewServer::ViewServer(const ViewServerOptions& options) : s_(std::make_unique<S
         options.bind));
   const std::string ports = listen_spec(options.bind, options.port);
   const std::string timeout_ms = std::to_string(std::max(1, options.write_timeout_ms));
+  const std::string request_timeout_ms = std::to_string(std::min(kRequestTimeoutMs, std::max(1, options.write_timeout_ms)));
   // static_file_max_age 0: a page edited, or a new replay, is never an hour-old copy. Pings after
   // a silent timeout: a page that stopped reading is closed when they fail or go unanswered.
   const char* config[] = {"listening_ports", ports.c_str(),
                           "document_root", s.page_root.c_str(),
                           "enable_directory_listing", "no",
                           "num_threads", kWorkerThreads,
-                          "request_timeout_ms", timeout_ms.c_str(),
+                          "request_timeout_ms", request_timeout_ms.c_str(),
                           "websocket_timeout_ms", timeout_ms.c_str(),
                           "enable_websocket_ping_pong", "yes",
                           "static_file_max_age", "0",

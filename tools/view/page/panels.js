@@ -21,6 +21,16 @@ var SEAR = window.SEAR || (window.SEAR = {});
     return v.toFixed(a >= 100 ? 1 : 3);
   }
 
+  // SI units as the frames carry them, shown at the scale the parts' datasheets use: a field in
+  // µT (the Earth's is some 50), angles in degrees.
+  var SHOWN = {
+    "T": { unit: "µT", scale: 1e6 },
+    "rad": { unit: "°", scale: 180 / Math.PI },
+    "rad/s": { unit: "°/s", scale: 180 / Math.PI },
+    "1": { unit: "", scale: 1 }
+  };
+  function shown(unit) { return SHOWN[unit] || { unit: unit || "", scale: 1 }; }
+
   function appendBounded(box, line) {
     var stick = box.scrollTop + box.clientHeight >= box.scrollHeight - 4;
     box.appendChild(line);
@@ -36,6 +46,8 @@ var SEAR = window.SEAR || (window.SEAR = {});
     this.state = el("span", "mcu-state", "");
     head.appendChild(this.state);
     this.root.appendChild(head);
+    var units = this.units = {};
+    (desc.devices || []).forEach(function (d) { units[d.name] = d.units || {}; });
     var devices = (desc.devices || []).map(function (d) { return d.name + " (" + d.element + ", " + d.wiring + ")"; });
     if (devices.length) this.root.appendChild(el("div", "devices", devices.join(" · ")));
     this.pins = el("div", "pins");
@@ -121,16 +133,19 @@ var SEAR = window.SEAR || (window.SEAR = {});
     var head = el("tr");
     ["device", "quantity", "reading", "truth"].forEach(function (h) { head.appendChild(el("th", null, h)); });
     table.appendChild(head);
+    var units = this.units;
     devices.forEach(function (d) {
       var qs = Object.keys(readings[d] || {});
       Object.keys(truth[d] || {}).forEach(function (q) { if (qs.indexOf(q) < 0) qs.push(q); });
       qs.forEach(function (q) {
         var row = el("tr");
+        var u = shown((units[d] || {})[q]);
         row.appendChild(el("td", null, d));
-        row.appendChild(el("td", null, q));
+        row.appendChild(el("td", null, q.replace(/_/g, " ") + (u.unit ? " (" + u.unit + ")" : "")));
         var r = (readings[d] || {})[q], t = (truth[d] || {})[q];
-        row.appendChild(el("td", "num", r === undefined ? "" : (r === null ? "–" : fmt(r))));
-        row.appendChild(el("td", "num", t === undefined ? "" : (t === null ? "–" : fmt(t))));
+        function value(v) { return v === undefined ? "" : (v === null ? "–" : fmt(typeof v === "number" ? v * u.scale : v)); }
+        row.appendChild(el("td", "num", value(r)));
+        row.appendChild(el("td", "num", value(t)));
         table.appendChild(row);
       });
     });

@@ -85,6 +85,12 @@ var SEAR = window.SEAR || (window.SEAR = {});
 
   // Draws one frame's readings. `tracks` false: only the poses (scrubbing redraws tracks itself).
   SEAR.updateSensors = function (sensors, robots, frame, tracks) {
+    // Devices whose model has been fed a sample: until then a cone's range is no reading at all,
+    // and drawn at full length it would cross walls at t = 0.
+    var fed = {};
+    (frame.mcus || []).forEach(function (m) {
+      Object.keys(m.truth || {}).forEach(function (d) { fed[m.id + "/" + d] = true; });
+    });
     (frame.robots || []).forEach(function (fr) {
       var list = sensors[fr.name], robot = robots[fr.name];
       if (!list || !robot) return;
@@ -94,7 +100,9 @@ var SEAR = window.SEAR || (window.SEAR = {});
         if (v.kind === "cone") {
           placeMount(v, robot.group);
           var max = v.desc.max_m || 1;
-          var len = (f.range_m === null || f.range_m === undefined) ? max : f.range_m;
+          var known = f.range_m !== null && f.range_m !== undefined;
+          v.cone.visible = known || !!fed[v.desc.mcu + "/" + f.name];
+          var len = known ? f.range_m : max;
           v.cone.scale.set(Math.max(len, 1e-3), Math.max(len, 1e-3), Math.max(len, 1e-3));
           v.hit.visible = f.range_m !== null && f.range_m !== undefined;
           v.hit.position.set(len, 0, 0);
