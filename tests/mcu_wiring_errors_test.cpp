@@ -83,6 +83,19 @@ TEST(McuWiringErrors, EveryWiringMistakeIsReportedWhereItIs) {
   EXPECT_TRUE(says(l, 14, {"laser"}));
 }
 
+// Issue 22: a motor's speed is PWM duty, and pwm_write() on a pin with no timer output stops the
+// firmware at its first drive; the loader says so before the run, once, where the motor is wired.
+TEST(McuWiringErrors, AMotorsPwmPinMustHavePwm) {
+  TempDir dir;
+  const Loaded l = load(dir, project_with(kFirmware + R"(      <motor name="left" pwm="30" dir="12"/>
+      <motor name="right" pwm="46" dir="13"/>
+)"));
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(says(l, 6, {"motor 'left' has pwm=\"30\", a pin with no PWM on the ATmega2560",
+                          "its PWM pins are 2..13 and 44..46"}));
+  EXPECT_EQ(l.diagnostics.count(), 1u) << l.diagnostics.joined();  // pin 46 (timer 5's OC5A) has PWM
+}
+
 TEST(McuWiringErrors, FirmwareMustBeNamedAndExist) {
   TempDir dir;
   EXPECT_TRUE(says(load(dir, project_with("")), 4, {"<mcu> needs a <firmware>"}));
