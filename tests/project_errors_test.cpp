@@ -182,6 +182,19 @@ TEST(ProjectErrors, UnknownAttributeSuggestsTheNearestName) {
   EXPECT_TRUE(reports(l.diagnostics, l.path, line, {"<wheel> needs attribute 'radius'"}));
 }
 
+// Issue 22: a name too far from every valid one for a suggestion still shows what the element
+// takes, in the order the format lists it, each name once.
+TEST(ProjectErrors, UnknownAttributeListsTheValidOnes) {
+  TempDir dir;
+  const std::string xml =
+      replaced(kGoodProject, kLeftWheel, R"(<wheel name="left" pos="0.04 0.11 -0.01" diameter="0.09")");
+  const Loaded l = load(dir, xml);
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "diameter="),
+                      {"unknown attribute 'diameter' on <wheel>; valid: name, pos, radius, width, mass, steered, "
+                       "material"}));
+}
+
 TEST(ProjectErrors, ANumberThatIsNotANumber) {
   TempDir dir;
   std::string xml = replaced(kGoodProject, kChassis,
