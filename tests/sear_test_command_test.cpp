@@ -176,7 +176,7 @@ TEST(SearTestCommand, FileThatDoesNotLoadIsAFailedCase) {
   fs::create_directories(tmp.path() / "tests/data/scenarios");
   fs::copy(kSuite + "/greeter", tmp.path() / "tests/data/scenarios/greeter", fs::copy_options::recursive);
   fs::create_directory_symlink(fs::path(SEAR_TEST_DATA).parent_path().parent_path() / "assets", tmp.path() / "assets");
-  // <world> is never closed: tinyxml2 finds </project> on line 6 where </world> belongs.
+  // <world> (line 3) is never closed: </project> on line 6 comes where </world> belongs.
   tmp.write("tests/data/scenarios/broken/project.xml", R"(<project name="broken">
   <run duration="2"/>
   <world step="0.001">
@@ -204,7 +204,10 @@ TEST(SearTestCommand, FileThatDoesNotLoadIsAFailedCase) {
   const Suite& broken = report.suites[0];  // sorted by name: "broken/..." < "greeter" < "lib/..."
   EXPECT_EQ(broken.scenario_file, "broken/project.xml");
   EXPECT_EQ(broken.errors, 1);
-  EXPECT_NE(broken.error.find("broken/project.xml:3: error: malformed XML"), std::string::npos) << broken.error;
+  EXPECT_NE(broken.error.find("broken/project.xml:3: error: malformed XML: <world> is never closed: </project> on "
+                              "line 6 comes before its </world>"),
+            std::string::npos)
+      << broken.error;
   const Suite& arena = report.suites[3];
   EXPECT_EQ(arena.scenario_file, "lib/arena.xml");
   EXPECT_NE(arena.error.find("lib/arena.xml:2: error: unknown attribute 'colour' on <terrain>"), std::string::npos)
