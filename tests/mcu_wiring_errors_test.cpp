@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "scene/loader_parts.hpp"
 #include "scene/project_loader.hpp"
 #include "temp_dir.hpp"
 
@@ -81,6 +82,40 @@ TEST(McuWiringErrors, EveryWiringMistakeIsReportedWhereItIs) {
   EXPECT_TRUE(says(l, 11, {"unknown servo 'steer'"}));
   EXPECT_TRUE(says(l, 13, {"UART port 1 is wired to both"}));
   EXPECT_TRUE(says(l, 14, {"laser"}));
+}
+
+// Issue 22: a motor's speed is PWM duty, and pwm_write() on a pin with no timer output stops the
+// firmware at its first drive; the loader says so before the run, once, where the motor is wired.
+TEST(McuWiringErrors, AMotorsPwmPinMustHavePwm) {
+  TempDir dir;
+  const Loaded l = load(dir, project_with(kFirmware + R"(      <motor name="left" pwm="30" dir="12"/>
+      <motor name="right" pwm="46" dir="13"/>
+)"));
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(says(l, 6, {"motor 'left' has pwm=\"30\", a pin with no PWM on the ATmega2560",
+                          "its PWM pins are 2..13 and 44..46"}));
+  EXPECT_EQ(l.diagnostics.count(), 1u) << l.diagnostics.joined();  // pin 46 (timer 5's OC5A) has PWM
+}
+
+// Issue 22: a sensor at pos="15 0 2" on a 30 cm rover loads, but looks at the world from 15 m
+// away: a warning where it is written, with the distance and the robot's own reach.
+TEST(McuWiringErrors, ASensorFarOutsideItsRobotIsWarnedOf) {
+  TempDir dir;
+  const Loaded l = load(dir, project_with(kFirmware + R"(      <gp2d12 name="ir" adc="0" pos="15 0 2"/>
+      <gp2d12 name="mast" adc="1" pos="0.1 0 0.8"/>
+)"));
+  ASSERT_TRUE(l.diagnostics.ok()) << l.diagnostics.joined();  // a warning: the run goes ahead
+  ASSERT_EQ(l.diagnostics.warnings().size(), 1u) << l.diagnostics.warnings_joined();
+  const Diagnostic& w = l.diagnostics.warnings()[0];
+  EXPECT_EQ(w.file, l.path);
+  EXPECT_EQ(w.line, 6);
+  // |(15, 0, 2)| = 15.13 m. The rover's reach is its chassis' half-diagonal, 0.5 * |(0.30, 0.18,
+  // 0.06)| = 0.1775 m (its wheels reach |(0.04, 0.11, -0.01)| + 0.045 = 0.162 m): the mast at
+  // 0.806 m stays within 5 times that (0.888 m).
+  EXPECT_EQ(w.str(), l.path + ":6: warning: robot 'rover': <gp2d12> 'ir' at pos=\"15 0 2\" is 15.1 m from the "
+                              "robot's origin, while the robot itself reaches 0.177 m from it: 'pos' is in metres "
+                              "(centimetres written as metres?)");
+  EXPECT_NEAR(robot_reach_m(l.project->robots[0]), 0.17748, 1e-5);  // 0.5 * sqrt(0.126), to the 5th digit
 }
 
 TEST(McuWiringErrors, FirmwareMustBeNamedAndExist) {

@@ -141,8 +141,9 @@ TEST(ProjectErrors, MalformedXmlNamesTheLineOfTheUnclosedTag) {
   const Loaded l = load(dir, xml);
   EXPECT_FALSE(l.project.has_value());
   ASSERT_EQ(l.diagnostics.all().size(), 1u) << l.diagnostics.joined();
-  // tinyxml2 finds </project> while <run> (line 3) is still open, and names <run>.
-  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "<run"), {"malformed XML", "run"}));
+  // </project> comes while <run> (line 3) is still open: said where <run> is, in our words.
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "<run"),
+                      {"malformed XML: <run> is never closed: </project> on line 5 comes before its </run>"}));
 }
 
 TEST(ProjectErrors, WrongRootElement) {
@@ -180,6 +181,19 @@ TEST(ProjectErrors, UnknownAttributeSuggestsTheNearestName) {
   EXPECT_TRUE(reports(l.diagnostics, l.path, line, {"unknown attribute 'radus' on <wheel>", "did you mean 'radius'"}));
   // With the misspelling, the wheel also lacks its radius: said on the same line.
   EXPECT_TRUE(reports(l.diagnostics, l.path, line, {"<wheel> needs attribute 'radius'"}));
+}
+
+// Issue 22: a name too far from every valid one for a suggestion still shows what the element
+// takes, in the order the format lists it, each name once.
+TEST(ProjectErrors, UnknownAttributeListsTheValidOnes) {
+  TempDir dir;
+  const std::string xml =
+      replaced(kGoodProject, kLeftWheel, R"(<wheel name="left" pos="0.04 0.11 -0.01" diameter="0.09")");
+  const Loaded l = load(dir, xml);
+  EXPECT_FALSE(l.project.has_value());
+  EXPECT_TRUE(reports(l.diagnostics, l.path, line_of(xml, "diameter="),
+                      {"unknown attribute 'diameter' on <wheel>; valid: name, pos, radius, width, mass, steered, "
+                       "material"}));
 }
 
 TEST(ProjectErrors, ANumberThatIsNotANumber) {
@@ -310,7 +324,8 @@ TEST(ProjectErrors, MalformedRobotFileNamesTheRobotFileAndItsLine) {
   const Loaded l = load(dir, xml);
   EXPECT_FALSE(l.project.has_value());
   // <chassis ...> on line 3 is never closed.
-  EXPECT_TRUE(reports(l.diagnostics, robot_path, line_of(robot, "<chassis"), {"malformed XML", "chassis"}));
+  EXPECT_TRUE(reports(l.diagnostics, robot_path, line_of(robot, "<chassis"),
+                      {"malformed XML: <chassis> is never closed: </robot> on line 5 comes before its </chassis>"}));
   EXPECT_EQ(l.diagnostics.all().size(), 1u) << l.diagnostics.joined();
 }
 

@@ -393,7 +393,8 @@ TEST(ProjectValues, AFileWithVeryManyErrorsKeepsAHundred) {
   EXPECT_EQ(l.diagnostics.count(), static_cast<std::size_t>(kBad));
   ASSERT_EQ(l.diagnostics.all().size(), Diagnostics::kMaxKept);
   EXPECT_EQ(l.diagnostics.all()[0].line, 3);
-  EXPECT_EQ(l.diagnostics.all()[0].message, "unknown element <boxx> in <world> (did you mean 'box'?)");
+  EXPECT_EQ(l.diagnostics.all()[0].message, "unknown element <boxx> in <world> (did you mean 'box'?); valid: <gps_origin>, <magnetic>, "
+            "<material>, <terrain>, <box>, <tree>, <wall>, <mesh>");
   EXPECT_NE(l.diagnostics.joined().find("... and 299900 more errors"), std::string::npos);
 }
 

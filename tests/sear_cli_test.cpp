@@ -116,6 +116,41 @@ TEST(SearCli, CheckListsEveryErrorAndFails) {
   EXPECT_EQ(sear("run " + dir.string()).exit_code, 1);
 }
 
+// Issue 22: a motor on a pin with no PWM is refused before the run, said once, at its line; a
+// sensor 15 m from a 30 cm rover is a warning at its line (both from the loader, for check and run).
+TEST(SearCli, CheckRefusesAMotorWithNoPwmAndWarnsOfAFarSensor) {
+  const fs::path dir = fresh_dir("plausible");
+  fs::create_directories(dir);
+  std::ofstream(dir / "main.c") << "int main(void) { return 0; }\n";
+  std::ofstream(dir / "project.xml") << R"(<project>
+  <world step="0.001"/>
+  <robot file=")" << SEAR_ASSET_DIR << R"(/robots/rover.xml">
+    <mcu name="main">
+      <firmware sources="main.c"/>
+      <motor name="left" pwm="30" dir="12"/>
+      <gp2d12 name="ir" adc="0" pos="15 0 2"/>
+    </mcu>
+  </robot>
+</project>
+)";
+  const std::string file = (dir / "project.xml").string();
+  const std::string pwm = file + ":6: error: robot 'rover': mcu 'main': motor 'left' has pwm=\"30\", a pin with no "
+                                 "PWM on the ATmega2560; its PWM pins are 2..13 and 44..46\n";
+  const std::string far = file + ":7: warning: robot 'rover': <gp2d12> 'ir' at pos=\"15 0 2\" is 15.1 m from the "
+                                 "robot's origin, while the robot itself reaches 0.177 m from it";
+  const auto times = [](const std::string& text, const std::string& part) {
+    std::size_t n = 0;
+    for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+    return n;
+  };
+  for (const std::string& command : {"check " + dir.string(), "run " + dir.string() + " -o " + (dir / "out").string()}) {
+    const Result r = sear(command);
+    EXPECT_EQ(r.exit_code, 1) << command << r.err;
+    EXPECT_EQ(times(r.err, pwm), 1u) << command << r.err;
+    EXPECT_EQ(times(r.err, far), 1u) << command << r.err;
+  }
+}
+
 TEST(SearCli, CheckFindsEverythingPlacedOffTheTerrain) {
   const fs::path dir = fresh_dir("off_terrain");
   fs::create_directories(dir);

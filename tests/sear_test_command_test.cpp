@@ -168,6 +168,56 @@ TEST(SearTestCommand, RunThatCannotBeDoneFailsWithItsError) {
   EXPECT_NE(r.out.find("reproduce: sear run suite/lost.xml --seed 1"), std::string::npos) << r.out;
 }
 
+// Issue 22: a project beside the suite's scenarios that does not load is a failed case, not a
+// warning above a green suite. The greeter's folder (which passes) sits in tests/data/ beside a
+// link to the assets, as its project reaches the robot at ../../../../assets.
+TEST(SearTestCommand, FileThatDoesNotLoadIsAFailedCase) {
+  const sear::test::TempDir tmp;
+  fs::create_directories(tmp.path() / "tests/data/scenarios");
+  fs::copy(kSuite + "/greeter", tmp.path() / "tests/data/scenarios/greeter", fs::copy_options::recursive);
+  fs::create_directory_symlink(fs::path(SEAR_TEST_DATA).parent_path().parent_path() / "assets", tmp.path() / "assets");
+  // <world> (line 3) is never closed: </project> on line 6 comes where </world> belongs.
+  tmp.write("tests/data/scenarios/broken/project.xml", R"(<project name="broken">
+  <run duration="2"/>
+  <world step="0.001">
+    <terrain type="flat"/>
+  <robot file="../../../../assets/robots/rover.xml"/>
+</project>
+)");
+  // Well-formed, no scenario of its own, and a misspelt attribute the loader refuses.
+  tmp.write("tests/data/scenarios/lib/arena.xml", R"(<project name="arena">
+  <world><terrain type="flat" colour="red"/></world>
+</project>
+)");
+  const Result r = sear_test(tmp.path(), "tests/data/scenarios --seeds 1..2 -o out --junit report.xml");
+  EXPECT_EQ(r.exit_code, 5) << r.out;
+  EXPECT_NE(r.out.find("4 cases from 1 scenario and 2 files that do not load"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("ERROR broken/project.xml\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("ERROR lib/arena.xml\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("2 of 4 cases passed, 2 failed"), std::string::npos) << r.out;
+  const Report report = parse(tmp.path() / "report.xml");
+  // The greeter's 2 expectations with each of 2 seeds, and one error case per file, whatever the seeds.
+  EXPECT_EQ(report.tests, 2 * 2 + 2);
+  EXPECT_EQ(report.failures, 0);
+  EXPECT_EQ(report.errors, 2);
+  ASSERT_EQ(report.suites.size(), 4u) << r.out;
+  const Suite& broken = report.suites[0];  // sorted by name: "broken/..." < "greeter" < "lib/..."
+  EXPECT_EQ(broken.scenario_file, "broken/project.xml");
+  EXPECT_EQ(broken.errors, 1);
+  EXPECT_NE(broken.error.find("broken/project.xml:3: error: malformed XML: <world> is never closed: </project> on "
+                              "line 6 comes before its </world>"),
+            std::string::npos)
+      << broken.error;
+  const Suite& arena = report.suites[3];
+  EXPECT_EQ(arena.scenario_file, "lib/arena.xml");
+  EXPECT_NE(arena.error.find("lib/arena.xml:2: error: unknown attribute 'colour' on <terrain>"), std::string::npos)
+      << arena.error;
+  // One shard of two takes the first and third of the 4 cases: a greeter run and a file's error.
+  const Result shard = sear_test(tmp.path(), "tests/data/scenarios --seeds 1..2 --shard 1/2 -o out1");
+  EXPECT_EQ(shard.exit_code, 5) << shard.out;
+  EXPECT_NE(shard.out.find("1 of 2 cases passed, 1 failed"), std::string::npos) << shard.out;
+}
+
 TEST(SearTestCommand, BadArgumentsAreRefused) {
   const sear::test::TempDir tmp;
   for (const std::string& args : {kSuite + " --shard 0/3", kSuite + " --shard 4/3", kSuite + " --seeds 5..2",

@@ -5,13 +5,24 @@
 namespace sear {
 
 std::string Diagnostic::str() const {
-  if (line > 0) return fmt::format("{}:{}: error: {}", file, line, message);
-  return fmt::format("{}: error: {}", file, message);
+  const char* kind = warning ? "warning" : "error";
+  if (line > 0) return fmt::format("{}:{}: {}: {}", file, line, kind, message);
+  return fmt::format("{}: {}: {}", file, kind, message);
+}
+
+void Diagnostics::warning(const std::string& file, int line, std::string message) {
+  if (warnings_.size() < kMaxKept) warnings_.push_back({file, line, std::move(message), true});
+}
+
+std::string Diagnostics::warnings_joined() const {
+  std::string out;
+  for (const auto& d : warnings_) out += d.str() + "\n";
+  return out;
 }
 
 void Diagnostics::error(const std::string& file, int line, std::string message) {
   ++count_;
-  if (items_.size() < kMaxKept) items_.push_back({file, line, std::move(message)});
+  if (items_.size() < kMaxKept) items_.push_back({file, line, std::move(message), false});
 }
 
 std::string Diagnostics::joined() const {

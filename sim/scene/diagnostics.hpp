@@ -12,8 +12,9 @@ struct Diagnostic {
   std::string file;
   int line = 0;  // 0 when the problem is the file as a whole (missing, unreadable)
   std::string message;
+  bool warning = false;  // plausible but probably a mistake: the run goes ahead
 
-  // "file:line: error: message", the form compilers use, so editors can jump to it.
+  // "file:line: error: message" (or "warning:"), the form compilers use, so editors can jump to it.
   std::string str() const;
 };
 
@@ -34,9 +35,17 @@ class Diagnostics {
   // One diagnostic per line, then "... and N more errors" when some were not kept.
   std::string joined() const;
 
+  // What loads but is probably not what was meant (a sensor metres outside its robot). Kept apart
+  // from the errors: they do not stop a run, and ok() does not count them. The first kMaxKept.
+  void warning(const std::string& file, int line, std::string message);
+  const std::vector<Diagnostic>& warnings() const { return warnings_; }
+  // One warning per line.
+  std::string warnings_joined() const;
+
  private:
   std::vector<Diagnostic> items_;
   std::size_t count_ = 0;
+  std::vector<Diagnostic> warnings_;
 };
 
 }  // namespace sear

@@ -163,8 +163,9 @@ void ElementReader::children(const std::vector<std::string>& allowed_names,
   for (auto* child = element_->FirstChildElement(); child; child = child->NextSiblingElement()) {
     if (std::find(allowed_names.begin(), allowed_names.end(), child->Name()) == allowed_names.end()) {
       diagnostics_.error(file_, child->GetLineNum(),
-                         fmt::format("unknown element <{}> in <{}>{}", child->Name(), name(),
-                                     did_you_mean(diagnostics_, child->Name(), allowed_names)));
+                         fmt::format("unknown element <{}> in <{}>{}{}", child->Name(), name(),
+                                     did_you_mean(diagnostics_, child->Name(), allowed_names),
+                                     valid_names(diagnostics_, allowed_names, true)));
       continue;
     }
     visit(*child);
@@ -174,7 +175,8 @@ void ElementReader::children(const std::vector<std::string>& allowed_names,
 void ElementReader::finish() {
   for (auto* a = element_->FirstAttribute(); a; a = a->Next()) {
     if (std::find(asked_.begin(), asked_.end(), a->Name()) != asked_.end()) continue;
-    error(fmt::format("unknown attribute '{}' on <{}>{}", a->Name(), name(), did_you_mean(diagnostics_, a->Name(), asked_)));
+    error(fmt::format("unknown attribute '{}' on <{}>{}{}", a->Name(), name(), did_you_mean(diagnostics_, a->Name(), asked_),
+                      valid_names(diagnostics_, asked_)));
   }
 }
 

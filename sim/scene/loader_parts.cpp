@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "scene/loader_parts.hpp"
+#include "scene/xml_syntax.hpp"
 #include "scene/mesh_loader.hpp"
 #include "scene/value_ranges.hpp"
 
@@ -124,7 +125,12 @@ void check_label(ElementReader& r, const char* attribute, const std::string& tex
 bool parse_xml(const std::string& xml, const std::string& path, Diagnostics& diagnostics, tinyxml2::XMLDocument& doc) {
   if (!check_utf8(xml, path, diagnostics)) return false;
   if (doc.Parse(xml.data(), xml.size()) == tinyxml2::XML_SUCCESS) return true;
-  diagnostics.error(path, doc.ErrorLineNum(), fmt::format("malformed XML: {}", doc.ErrorStr()));
+  // tinyxml2's own text is its enum's name and the line where it gave up; expat says what is wrong
+  // and where it was written.
+  if (const auto syntax = xml_syntax_error(xml))
+    diagnostics.error(path, syntax->line, "malformed XML: " + syntax->message);
+  else
+    diagnostics.error(path, doc.ErrorLineNum(), "malformed XML: " + tinyxml2_error_words(doc.ErrorID()));
   return false;
 }
 

@@ -84,4 +84,10 @@ void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics);
 // Cross-checks of one robot once all its parts are read (wiring, drive layout, script names).
 void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics);
 
+// How far the robot's body (chassis, wheels, casters) reaches from its origin, in metres.
+double robot_reach_m(const RobotDesc& robot);
+
+// Warns of each sensor placed far outside its robot (a position in centimetres written as metres).
+void warn_misplaced_devices(const RobotDesc& robot, Diagnostics& diagnostics);
+
 }  // namespace sear

@@ -12,6 +12,7 @@
 #include <map>
 #include <unordered_set>
 
+#include "scene/board_pins.hpp"
 #include "scene/device_kind.hpp"
 #include "scene/loader_parts.hpp"
 #include "scene/nearest_name.hpp"
@@ -343,6 +344,11 @@ void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics) {
         fail(m.source, fmt::format("mcu '{}' wires unknown motor '{}'{}", mcu.name, m.motor,
                                    did_you_mean(diagnostics, m.motor, motor_names)));
       own(m.source, m.motor);
+      // The firmware's pwm_write() on such a pin stops it, so the run would end at its first drive.
+      if (m.pwm_pin >= 0 && !mega2560_has_pwm(m.pwm_pin))
+        fail(m.source, fmt::format("mcu '{}': motor '{}' has pwm=\"{}\", a pin with no PWM on the ATmega2560; "
+                                   "its PWM pins are {}",
+                                   mcu.name, m.motor, m.pwm_pin, mega2560_pwm_pins()));
       use(pin_use, "pin", m.pwm_pin, m.source, "motor " + m.motor + " pwm");
       use(pin_use, "pin", m.dir_pin, m.source, "motor " + m.motor + " dir");
       use(pin_use, "pin", m.brake_pin, m.source, "motor " + m.motor + " brake");

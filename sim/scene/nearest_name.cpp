@@ -51,4 +51,16 @@ std::string did_you_mean(const Diagnostics& diagnostics, const std::string& type
   return diagnostics.full() ? std::string() : did_you_mean(typed, candidates);
 }
 
+std::string valid_names(const Diagnostics& diagnostics, const std::vector<std::string>& names, bool elements) {
+  if (diagnostics.full() || names.empty()) return {};
+  std::vector<std::string> seen;
+  std::string out = "; valid: ";
+  for (const auto& n : names) {
+    if (std::find(seen.begin(), seen.end(), n) != seen.end()) continue;  // has() and number() both ask
+    out += (seen.empty() ? "" : ", ") + (elements ? "<" + n + ">" : n);
+    seen.push_back(n);
+  }
+  return out;
+}
+
 }  // namespace sear

@@ -21,4 +21,9 @@ std::string did_you_mean(const std::string& typed, const std::vector<std::string
 std::string did_you_mean(const Diagnostics& diagnostics, const std::string& typed,
                          const std::vector<std::string>& candidates);
 
+// "; valid: a, b, c" (elements: "<a>, <b>"), each name once in the order given, so that a
+// misspelling too far from any name for a suggestion still shows what could be written there;
+// "" when there are none, or once `diagnostics` keeps no more errors.
+std::string valid_names(const Diagnostics& diagnostics, const std::vector<std::string>& names, bool elements = false);
+
 }  // namespace sear

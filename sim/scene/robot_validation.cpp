@@ -87,6 +87,7 @@ void validate_robot(const RobotDesc& robot, Diagnostics& diagnostics) {
       fail(w.source, fmt::format("steered wheel '{}' has no positional servo steering it", w.name));
 
   validate_mcus(robot, diagnostics);
+  warn_misplaced_devices(robot, diagnostics);
   std::vector<std::string> motor_names, servo_names;
   for (const auto& m : robot.motors) motor_names.push_back(m.name);
   for (const auto& s : robot.servos) servo_names.push_back(s.name);

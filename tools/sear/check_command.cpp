@@ -49,6 +49,7 @@ int check_command(const std::string& project) {
   const auto scenario = load_scenario(argument, diagnostics);
   const std::string path = scenario ? scenario->project_file : argument;
   auto loaded = scenario ? load_project(path, diagnostics) : std::nullopt;
+  fmt::print(stderr, "{}", diagnostics.warnings_joined());
   if (!loaded || !check_scenario(*scenario, *loaded, diagnostics)) {
     fmt::print(stderr, "{}", diagnostics.joined());
     print_count(argument, diagnostics.count());

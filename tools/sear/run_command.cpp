@@ -105,6 +105,7 @@ int run_command(const RunOptions& options) {
   }
   const std::string path = scenario->project_file;
   auto project = load_project(path, diagnostics);
+  fmt::print(stderr, "{}", diagnostics.warnings_joined());
   if (!project || !check_scenario(*scenario, *project, diagnostics)) {
     fmt::print(stderr, "{}", diagnostics.joined());
     return 1;

@@ -127,14 +127,13 @@ int suite_command(const TestOptions& options) {
   // Canonical: every run's files name it so, and the report's paths are made relative to it.
   const fs::path dir = fs::canonical(options.dir);
   const fs::path out = fs::absolute(options.out_dir).lexically_normal();
-  std::vector<std::string> warnings;
-  const auto found = find_scenarios(dir, out, warnings);
-  for (const auto& w : warnings) fmt::print(stderr, "sear test: warning: {}\n", w);
-  if (found.empty())
+  std::vector<UnloadableFile> unloadable;
+  const auto found = find_scenarios(dir, out, unloadable);
+  if (found.empty() && unloadable.empty())
     throw std::invalid_argument(fmt::format(
         "{}: no scenario found (a *.xml with a <scenario> root, or a folder whose project.xml has an <expect>)",
         options.dir));
-  const auto cases = plan_cases(found.size(), seeds, shard);
+  const auto cases = plan_cases(found.size(), unloadable.size(), seeds, shard);
 
   const std::string self = self_executable();
   const ScratchFolder scratch;
@@ -142,8 +141,14 @@ int suite_command(const TestOptions& options) {
   std::vector<bool> known(found.size(), false);
   std::vector<FinishedCase> finished(cases.size());
   std::vector<ChildRun> children;
+  std::vector<std::size_t> child_case;  // the case each child runs
+  std::vector<std::size_t> broken;  // the cases of unloadable files: no run
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const TestCase& c = cases[i];
+    if (c.unloadable) {
+      broken.push_back(i);
+      continue;
+    }
     if (!known[c.scenario]) infos[c.scenario] = scenario_info(dir, found[c.scenario], !seeds);
     known[c.scenario] = true;
     const ScenarioInfo& info = infos[c.scenario];
@@ -168,17 +173,28 @@ int suite_command(const TestOptions& options) {
     run.cwd = dir.string();
     run.log = f.log;
     children.push_back(std::move(run));
+    child_case.push_back(i);
   }
 
-  fmt::print("sear test: {}{} from {} under {}, {} at once\n", plural(cases.size(), "case"),
+  fmt::print("sear test: {}{} from {}{} under {}, {} at once\n", plural(cases.size(), "case"),
              options.shard.empty() ? "" : fmt::format(" (shard {}/{})", shard.index, shard.count),
              plural(found.size(), "scenario"),
+             unloadable.empty() ? "" : fmt::format(" and {} that do{} not load", plural(unloadable.size(), "file"),
+                                                   unloadable.size() == 1 ? "es" : ""),
              options.dir, std::max<std::size_t>(options.jobs, 1));
   std::fflush(stdout);
   std::vector<JunitSuite> report;
   std::size_t done = 0, failed = 0;
-  run_children(children, options.jobs, [&](std::size_t i, int code) {
-    FinishedCase& f = finished[i];
+  for (const std::size_t i : broken) {
+    const UnloadableFile& u = unloadable[cases[i].scenario];
+    JunitSuite s = unloadable_file_suite(u.path, u.errors, cases[i].seed.value_or(RunDesc{}.seed), dir);
+    ++failed;
+    fmt::print("[{}/{}] ERROR {}\n{}", ++done, cases.size(), u.path, failure_lines(s, "    "));
+    report.push_back(std::move(s));
+  }
+  std::fflush(stdout);
+  run_children(children, options.jobs, [&](std::size_t child, int code) {
+    FinishedCase& f = finished[child_case[child]];
     f.exit_code = code;
     auto suites = finished_case_suites(f, dir);
     const bool bad = std::any_of(suites.begin(), suites.end(), suite_failed);

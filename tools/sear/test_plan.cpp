@@ -7,17 +7,24 @@
 #include <cerrno>
 #include <cstdlib>
 
+#include "scene/diagnostics.hpp"
+#include "scene/loader_parts.hpp"
+#include "scene/project_loader.hpp"
+
 namespace sear {
 namespace fs = std::filesystem;
 namespace {
 
-// The root element's name, "" when the file is not well-formed XML (`error` says why).
+// The root element's name, "" when the file cannot be read as XML (`diagnostics` says why, in
+// the words the project loader uses for it).
 std::string root_name(const fs::path& file, const tinyxml2::XMLElement** root, tinyxml2::XMLDocument& doc,
-                      std::string& error) {
-  if (doc.LoadFile(file.c_str()) != tinyxml2::XML_SUCCESS) {
-    error = fmt::format("{}:{}: {}", file.string(), doc.ErrorLineNum(), doc.ErrorStr());
+                      Diagnostics& diagnostics) {
+  std::string text;
+  if (!read_text_file(file.string(), text)) {
+    diagnostics.error(file.string(), 0, "cannot read the file");
     return "";
   }
+  if (!parse_xml(text, file.string(), diagnostics, doc)) return "";
   *root = doc.RootElement();
   return *root ? (*root)->Name() : "";
 }
@@ -43,7 +50,7 @@ constexpr std::uint64_t kMaxSeeds = 1000000;
 }  // namespace
 
 std::vector<FoundScenario> find_scenarios(const fs::path& dir, const fs::path& skip,
-                                          std::vector<std::string>& warnings) {
+                                          std::vector<UnloadableFile>& unloadable) {
   std::vector<FoundScenario> found;
   std::error_code ec;
   const fs::path skip_canonical = fs::weakly_canonical(skip, ec);
@@ -61,18 +68,23 @@ std::vector<FoundScenario> find_scenarios(const fs::path& dir, const fs::path& s
     if (p.extension() != ".xml" || !it->is_regular_file(ec)) continue;
     tinyxml2::XMLDocument doc;
     const tinyxml2::XMLElement* root = nullptr;
-    std::string error;
-    const std::string kind = root_name(p, &root, doc, error);
-    if (!error.empty()) {
-      warnings.push_back(fmt::format("{} (not taken for a scenario)", error));
+    Diagnostics diagnostics;
+    const std::string kind = root_name(p, &root, doc, diagnostics);
+    if (!diagnostics.ok()) {
+      unloadable.push_back({relative_to(dir, p), diagnostics.joined()});
     } else if (kind == "scenario") {
       found.push_back({relative_to(dir, p), false});
     } else if (kind == "project" && filename == "project.xml" && root->FirstChildElement("expect")) {
       found.push_back({relative_to(dir, p.parent_path()), true});
+    } else if (kind == "project") {
+      // No scenario of its own, so no run would read it: loaded here, so that its mistakes show.
+      if (!load_project(p.string(), diagnostics)) unloadable.push_back({relative_to(dir, p), diagnostics.joined()});
     }
   }
   std::sort(found.begin(), found.end(),
             [](const FoundScenario& a, const FoundScenario& b) { return a.path < b.path; });
+  std::sort(unloadable.begin(), unloadable.end(),
+            [](const UnloadableFile& a, const UnloadableFile& b) { return a.path < b.path; });
   return found;
 }
 
@@ -95,11 +107,12 @@ std::optional<Shard> parse_shard(const std::string& text, std::string& error) {
   return std::nullopt;
 }
 
-std::vector<TestCase> plan_cases(std::size_t scenarios, const std::optional<SeedRange>& seeds, const Shard& shard) {
+std::vector<TestCase> plan_cases(std::size_t scenarios, std::size_t unloadable, const std::optional<SeedRange>& seeds,
+                                 const Shard& shard) {
   std::vector<TestCase> cases;
   std::size_t i = 0;
-  const auto add = [&](std::size_t scenario, std::optional<std::uint64_t> seed) {
-    if (i++ % shard.count == shard.index - 1) cases.push_back({scenario, seed});
+  const auto add = [&](std::size_t scenario, std::optional<std::uint64_t> seed, bool broken = false) {
+    if (i++ % shard.count == shard.index - 1) cases.push_back({scenario, seed, broken});
   };
   for (std::size_t s = 0; s < scenarios; ++s) {
     if (!seeds) {
@@ -111,6 +124,9 @@ std::vector<TestCase> plan_cases(std::size_t scenarios, const std::optional<Seed
       if (seed == seeds->last) break;  // the range may end at 2^64-1
     }
   }
+  // Once, whatever the seeds: a file that does not load fails the same way with every seed.
+  for (std::size_t u = 0; u < unloadable; ++u)
+    add(u, seeds ? std::optional<std::uint64_t>(seeds->first) : std::nullopt, true);
   return cases;
 }
 

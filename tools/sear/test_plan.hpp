@@ -17,11 +17,20 @@ struct FoundScenario {
   bool project_folder = false;
 };
 
-// Every scenario under `dir`, sorted by path (byte order), so every machine lists the same suite.
-// Hidden folders and `skip` (the output folder, when it lies inside) are not searched. A *.xml file
-// that is not well-formed XML is reported in `warnings` rather than silently taken for data.
+// A file under the suite's folder that does not load: a *.xml that is not well-formed XML (it may
+// have been meant for a scenario or a project), or a <project> that is no scenario and whose
+// loader reports errors. Each is a failed case of the suite: a green suite beside a project that
+// cannot even be read would be a silent mistake.
+struct UnloadableFile {
+  std::string path;    // relative to the suite's folder, '/'-separated
+  std::string errors;  // the loader's diagnostics, "FILE:LINE: error: ..." one a line
+};
+
+// Every scenario under `dir`, sorted by path (byte order), so every machine lists the same suite;
+// the files that do not load in `unloadable`, sorted the same way. Hidden folders and `skip` (the
+// output folder, when it lies inside) are not searched.
 std::vector<FoundScenario> find_scenarios(const std::filesystem::path& dir, const std::filesystem::path& skip,
-                                          std::vector<std::string>& warnings);
+                                          std::vector<UnloadableFile>& unloadable);
 
 struct SeedRange {
   std::uint64_t first = 0;
@@ -37,14 +46,17 @@ struct Shard {
 // "K/N" with 1 <= K <= N.
 std::optional<Shard> parse_shard(const std::string& text, std::string& error);
 
-// One run: a scenario (index into the found list) with a seed from --seeds, or its own seed.
+// One run: a scenario (index into the found list) with a seed from --seeds, or its own seed; or an
+// unloadable file (index into that list), a case that fails without a run.
 struct TestCase {
   std::size_t scenario = 0;
   std::optional<std::uint64_t> seed;
+  bool unloadable = false;
 };
 
-// The cases of the whole suite, scenario by scenario and seed by seed, then the shard's share:
-// every case i with i % N == K - 1.
-std::vector<TestCase> plan_cases(std::size_t scenarios, const std::optional<SeedRange>& seeds, const Shard& shard);
+// The cases of the whole suite, scenario by scenario and seed by seed, then each unloadable file
+// once (with the first seed, if any), then the shard's share: every case i with i % N == K - 1.
+std::vector<TestCase> plan_cases(std::size_t scenarios, std::size_t unloadable, const std::optional<SeedRange>& seeds,
+                                 const Shard& shard);
 
 }  // namespace sear

@@ -98,6 +98,19 @@ std::vector<JunitSuite> finished_case_suites(const FinishedCase& run, const fs::
   return suites;
 }
 
+JunitSuite unloadable_file_suite(const std::string& file, const std::string& errors, std::uint64_t seed,
+                                 const fs::path& suite_dir) {
+  const Relative relative{suite_dir, suite_dir.string() + "/"};
+  JunitSuite s;
+  s.scenario = file;
+  s.scenario_file = file;
+  s.seed = seed;
+  std::string text = relative.text(errors);
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  s.error = "the file does not load:\n" + text;
+  return s;
+}
+
 std::string failure_lines(const JunitSuite& suite, const std::string& indent) {
   std::string out;
   const auto add = [&](const std::string& text) {

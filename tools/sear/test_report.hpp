@@ -28,6 +28,12 @@ struct FinishedCase {
 // and how the run ended. Absolute paths under `suite_dir` (canonical) become relative to it.
 std::vector<JunitSuite> finished_case_suites(const FinishedCase& run, const std::filesystem::path& suite_dir);
 
+// A file under the suite's folder that does not load (`errors`: the loader's diagnostics), as a
+// suite of its own named by the file, with an error and no run: absolute paths under `suite_dir`
+// become relative to it, as in a run's suite.
+JunitSuite unloadable_file_suite(const std::string& file, const std::string& errors, std::uint64_t seed,
+                                 const std::filesystem::path& suite_dir);
+
 // Some expectation failed or the run could not be done.
 bool suite_failed(const JunitSuite& suite);
 
