@@ -41,7 +41,7 @@ TEST(WiringReport, EveryInputTheFirmwareNeverReachedIsNamedWithItsDevicePinAndMc
   const SearRun run = run_sear(dir, project(WIRING_PROBE, kMiswired));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   // The symptom the report explains: no pulse on 22, so no echo, and pulse_in times out (0).
-  EXPECT_NE(run.file("rover.main.console.log").find("echo 0 us"), std::string::npos);
+  EXPECT_NE(run.file("rover.main.console.log").find("echo 0 us "), std::string::npos);
 
   const auto summary = nlohmann::json::parse(run.file("summary.json"));
   EXPECT_EQ(summary["status"], "completed");
@@ -83,8 +83,9 @@ TEST(WiringReport, EveryInputTheFirmwareNeverReachedIsNamedWithItsDevicePinAndMc
 
 TEST(WiringReport, WiringThatMatchesTheFirmwareGivesNoUnusedInput) {
   TempDir dir;
-  const SearRun run = run_sear(dir, project(WIRING_PROBE, "      <hcsr04 name=\"sonar\" trig=\"24\" echo=\"23\" "
-                                                          "pos=\"0.15 0 0.05\"/>\n"));
+  const SearRun run = run_sear(dir, project(WIRING_PROBE,
+                                            "      <hcsr04 name=\"sonar\" trig=\"24\" echo=\"23\" pos=\"0.15 0 0.05\"/>\n"
+                                            "      <gp2d12 name=\"ir\" adc=\"0\" pos=\"0.15 0 0.02\"/>\n"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto summary = nlohmann::json::parse(run.file("summary.json"));
   // Only the pull-up write, which the probe always makes, is left.

@@ -1,5 +1,5 @@
 /* A hobbyist's first hour gone wrong in every way the run can see: TRIG pulsed on pin 24 while the
- * project wires the HC-SR04's trig to 22 (ECHO on 23 is read), pin 30 written HIGH without ever
+ * project wires the HC-SR04's trig to 22 (ECHO on 23 and ADC channel 0 are read), pin 30 written HIGH without ever
  * being made an OUTPUT (only its pull-up), and a line printed with printf rather than on the UART.
  * The project wires more than the firmware uses (an IR ranger on ADC 3, a GPS on uart1): no call
  * ever reaches them. WIRING_PROBE_BEFORE_INIT asks for the clock before hal_init() instead. */
@@ -22,7 +22,8 @@ int main(void) {
     digital_write(24, HIGH);
     delay_us(10);
     digital_write(24, LOW);
-    snprintf(line, sizeof line, "echo %lu us\n", (unsigned long)pulse_in(23, HIGH, 30000));
+    const unsigned long echo_us = (unsigned long)pulse_in(23, HIGH, 30000);
+    snprintf(line, sizeof line, "echo %lu us adc0 %u\n", echo_us, adc_read(0));
     uart_print(0, line);
     delay_ms(60);
   }
