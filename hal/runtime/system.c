@@ -9,8 +9,8 @@ static const char *const call_names[] = {SEAR_HAL_CALLS(SEAR_CALL_NAME)};
 #undef SEAR_CALL_NAME
 
 void mcu_refuse_before_init(enum sear_call call) {
-  mcu_fatal("%s() called before hal_init(): on the board its timers, ADC and interrupts are not set up "
-            "yet (millis() stays 0); call hal_init() first thing in main()",
+  mcu_fatal("%s() called before hal_init(): on the board its timers, ADC, UARTs and interrupts are not set "
+            "up yet (millis() stays 0); call hal_init() first thing in main()",
             (unsigned)call < SEAR_CALL_COUNT ? call_names[call] : "a HAL call");
 }
 

@@ -2,12 +2,14 @@
  * project wires the HC-SR04's trig to 22 (ECHO on 23 and ADC channel 0 are read), pin 30 written HIGH without ever
  * being made an OUTPUT (only its pull-up), and a line printed with printf rather than on the UART.
  * The project wires more than the firmware uses (an IR ranger on ADC 3, a GPS on uart1): no call
- * ever reaches them. WIRING_PROBE_BEFORE_INIT asks for the clock before hal_init() instead. */
+ * ever reaches them. WIRING_PROBE_BEFORE_INIT drives a pin, then asks for the clock, before hal_init(). */
 #include <hal/hal.h>
 #include <stdio.h>
 
 int main(void) {
 #ifdef WIRING_PROBE_BEFORE_INIT
+  pin_mode(13, OUTPUT); /* the port registers need no hal_init() on the board either */
+  digital_write(13, HIGH);
   const uint32_t early = millis(); /* on the board: 0 for ever, as timer 0 is not running yet */
   (void)early;
 #endif
