@@ -34,7 +34,8 @@ const std::string kMiswired =
     "      <hcsr04 name=\"sonar\" trig=\"22\" echo=\"23\" pos=\"0.15 0 0.05\"/>\n"
     "      <gp2d12 name=\"ir\" adc=\"3\" pos=\"0.15 0 0.02\"/>\n"
     "      <ublox_neo6m name=\"gps\" uart=\"1\" pos=\"0 0 0.1\"/>\n"
-    "      <hmc5883l name=\"compass\" pos=\"0 0 0.1\"/>\n";
+    "      <hmc5883l name=\"compass\" pos=\"0 0 0.1\"/>\n"
+    "      <mpu6000 name=\"imu\" cs=\"53\" pos=\"0 0 0.05\"/>\n";
 
 TEST(WiringReport, EveryInputTheFirmwareNeverReachedIsNamedWithItsDevicePinAndMcu) {
   TempDir dir;
@@ -57,6 +58,7 @@ TEST(WiringReport, EveryInputTheFirmwareNeverReachedIsNamedWithItsDevicePinAndMc
       {"unused wiring", "ir", 3, "mcu rover.main: gp2d12 'ir': its output on ADC channel 3 (pin A3) was never read"},
       {"unused wiring", "gps", 1, "mcu rover.main: ublox_neo6m 'gps': it is on uart1, which the firmware never began"},
       {"unused wiring", "compass", 0x1E, "mcu rover.main: hmc5883l 'compass': at I2C address 30 (0x1E) it was never addressed"},
+      {"unused wiring", "imu", 53, "mcu rover.main: mpu6000 'imu': its cs pin 53 never selected it for an SPI transfer"},
       // Four HAL calls before it at 50 cycles each on a 16 MHz chip: 4 * 3.125 us.
       {"write to an input", "", 30,
        "mcu rover.main: a digital_write of HIGH to pin 30 at 0.000012500 s, a pin never set as an OUTPUT, only turned "
@@ -88,9 +90,11 @@ TEST(WiringReport, WiringThatMatchesTheFirmwareGivesNoUnusedInput) {
                                             "      <gp2d12 name=\"ir\" adc=\"0\" pos=\"0.15 0 0.02\"/>\n"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto summary = nlohmann::json::parse(run.file("summary.json"));
-  // Only the pull-up write, which the probe always makes, is left.
-  ASSERT_EQ(summary["wiring"].size(), 1U) << summary["wiring"].dump(2);
+  // Only what the probe always does is left: the pull-up write, and SS (53) with nothing on it.
+  ASSERT_EQ(summary["wiring"].size(), 2U) << summary["wiring"].dump(2);
   EXPECT_EQ(summary["wiring"][0]["kind"], "write to an input");
+  EXPECT_EQ(summary["wiring"][1]["kind"], "unwired output");
+  EXPECT_EQ(summary["wiring"][1]["pin"], 53);
   EXPECT_EQ(run.err.find("sear: wiring:"), std::string::npos) << run.err;
   // And the sonar works: the wall 1.15 m ahead of the sensor's 0.15 m mount, 58 us per cm,
   // within 10 % for the rover's creep and the echo's noise.
