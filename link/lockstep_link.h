@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #define SEAR_LINK_MAGIC 0x52414553u /* "SEAR" little-endian */
-#define SEAR_LINK_VERSION 5u
+#define SEAR_LINK_VERSION 6u
 /* Guards at both ends of the firmware's writable part: a stray write that runs over them is seen
  * at the next turn even when every value it hit still looks plausible. */
 #define SEAR_LINK_GUARD 0x5EA75EA75EA75EA7ull
@@ -182,6 +182,19 @@ struct sear_event {
   uint8_t reserved[2];
 };
 
+/* See sear_link.usage. */
+struct sear_link_usage {
+  uint32_t usage_kept;
+  uint32_t adc_read;         /* bit n: adc_read(n) was called */
+  uint32_t inputs_addressed; /* bit i: inputs[i] was selected for an SPI transfer or addressed on I2C */
+  uint32_t reserved;
+  uint8_t pin_read[SEAR_LINK_PINS]; /* 1: read by digital_read or pulse_in, or given an interrupt */
+  /* 1 + the level of the first digital_write/digital_toggle on a pin that had never been an
+   * OUTPUT (on the chip that only switches its pull-up), at input_write_ns; 0: none */
+  uint8_t input_write[SEAR_LINK_PINS];
+  int64_t input_write_ns[SEAR_LINK_PINS];
+};
+
 struct sear_link {
   uint32_t magic;
   uint32_t version;
@@ -226,6 +239,11 @@ struct sear_link {
   /* Written by the firmware's process whenever a model's output changes; read by the simulator
    * after each turn. Per input, as inputs[]. */
   struct sear_link_reading readings[SEAR_LINK_MAX_INPUTS];
+
+  /* What the firmware used that leaves no event, for the run's wiring report. Written by the
+   * native runtime, which sets `usage_kept`; an engine that leaves it 0 reports none of it. The
+   * simulator reads only flags and times out of it, so nonsense here costs a wrong note, no more. */
+  struct sear_link_usage usage;
   uint64_t guard_back;
 };
 

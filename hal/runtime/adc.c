@@ -22,6 +22,7 @@ void adc_resolution(uint8_t bits) {
 uint16_t adc_read(uint8_t channel) {
   const int64_t now = mcu_enter(SEAR_CALL_adc_read);
   if (channel >= HAL_ADC_CHANNELS) mcu_fatal("adc_read(%u): the ATmega2560 has channels 0..15", channel);
+  sear_mcu.link->usage.adc_read |= 1u << channel;
   const struct sear_link *link = sear_mcu.link;
   const double vref = sear_mcu.adc_reference == ADC_REF_AVCC       ? link->avcc_v
                       : sear_mcu.adc_reference == ADC_REF_EXTERNAL ? link->aref_v

@@ -338,6 +338,7 @@ int mcu_devices_spi_transfer(uint8_t mosi, uint32_t sck_hz, int64_t t_ns) {
     if (!ops->spi_transfer) continue;
     const uint32_t cs = link->inputs[i].pins[ops->spi_cs_slot];
     if (cs >= SEAR_LINK_PINS || !board_output_low((uint8_t)cs)) continue;
+    link->usage.inputs_addressed |= 1u << i;
     /* Two selected devices drive MISO against each other: the bus reads their wired AND. */
     const uint8_t out = ops->spi_transfer(&devices[i], mosi, sck_hz, t_ns);
     refresh(i, t_ns);
@@ -351,8 +352,12 @@ struct sear_link *mcu_devices_link(void) { return link; }
 const struct mcu_device *mcu_device_state(uint32_t i) { return &devices[i]; }
 
 static int i2c_device(uint8_t address) {
-  for (uint32_t i = 0; i < input_count(); ++i)
-    if (ops_of(i)->i2c_write && link->inputs[i].pins[ops_of(i)->i2c_address_slot] == address) return (int)i;
+  for (uint32_t i = 0; i < input_count(); ++i) {
+    if (ops_of(i)->i2c_write && link->inputs[i].pins[ops_of(i)->i2c_address_slot] == address) {
+      link->usage.inputs_addressed |= 1u << i;
+      return (int)i;
+    }
+  }
   return -1;
 }
 

@@ -9,6 +9,7 @@ void pin_mode(uint8_t pin, uint8_t mode) {
   if (mode > INPUT_PULLUP) mcu_fatal("pin_mode(%u, %u): mode must be INPUT, OUTPUT or INPUT_PULLUP", pin, mode);
   if (mode == INPUT) sear_mcu.latch[pin] = LOW;
   if (mode == INPUT_PULLUP) sear_mcu.latch[pin] = HIGH;
+  if (mode == OUTPUT) sear_mcu.ever_output[pin] = 1;
   if (sear_mcu.mode[pin] == mode) return;
   const int was_output = sear_mcu.mode[pin] == OUTPUT;
   sear_mcu.mode[pin] = mode;
@@ -26,12 +27,18 @@ void pin_mode(uint8_t pin, uint8_t mode) {
 uint8_t digital_read(uint8_t pin) {
   mcu_enter(SEAR_CALL_digital_read);
   mcu_check_pin(pin, "digital_read");
+  sear_mcu.link->usage.pin_read[pin] = 1;
   return mcu_pin_level(pin);
 }
 
 static void drive(uint8_t pin, uint8_t level, int64_t now) {
   const uint8_t was = mcu_pin_level(pin);
   const int was_pwm = sear_mcu.pwm[pin];
+  struct sear_link_usage *usage = &sear_mcu.link->usage;
+  if (!sear_mcu.ever_output[pin] && !usage->input_write[pin]) { /* for the run's report: it only moved the pull-up */
+    usage->input_write[pin] = (uint8_t)(1 + level);
+    usage->input_write_ns[pin] = now;
+  }
   sear_mcu.latch[pin] = level;
   sear_mcu.pwm[pin] = 0; /* as on the chip's timer pins: a digital write ends the PWM waveform */
   if (sear_mcu.mode[pin] == OUTPUT && (was != level || was_pwm)) {

@@ -48,6 +48,7 @@ void irq_attach_pin(uint8_t pin, uint8_t edge, irq_handler handler) {
     mcu_fatal("irq_attach_pin(%u): the ATmega2560 board has pin interrupts on 2, 3, 18..21, 10..15, 50..53 and A8..A15", pin);
   if (edge < IRQ_RISING || edge > IRQ_LOW)
     mcu_fatal("irq_attach_pin(%u, %u): edge must be IRQ_RISING, IRQ_FALLING, IRQ_CHANGE or IRQ_LOW", pin, edge);
+  if (handler) sear_mcu.link->usage.pin_read[pin] = 1;
   const int line = level_line(pin);
   if (edge == IRQ_LOW && line < 0)
     mcu_fatal("irq_attach_pin(%u, IRQ_LOW): level interrupts exist only on the external interrupt pins 2, 3, 18..21", pin);

@@ -72,6 +72,7 @@ struct mcu {
   int irq_enabled;
   int in_isr;
   int exiting; /* after exit(): the HAL keeps answering but no longer hands over */
+  int hal_ready; /* hal_init() was called: before it, every other HAL call is refused */
   /* Read by the idle-loop check's signal handler (idle.c), hence volatile. */
   volatile int slow_path;          /* inside mcu_service() or a hand-over, which may take a while */
   volatile uint64_t handlers_run;  /* interrupt handlers run so far */
@@ -83,6 +84,7 @@ struct mcu {
   uint8_t latch[SEAR_LINK_PINS];   /* the level the firmware drives when the pin is an output */
   uint8_t driven[SEAR_LINK_PINS];  /* the level a device drives onto the pin, or MCU_FLOATING */
   uint8_t pwm[SEAR_LINK_PINS];     /* 1 while a PWM waveform drives the pin */
+  uint8_t ever_output[SEAR_LINK_PINS]; /* 1 once pin_mode() made it an OUTPUT */
   irq_handler pin_handler[SEAR_LINK_PINS];
   uint8_t pin_edges[SEAR_LINK_PINS];
   uint8_t pin_pending[SEAR_LINK_PINS];

@@ -24,6 +24,7 @@ static int wait_for(uint8_t pin, uint8_t level, int64_t deadline_ns) {
 uint32_t pulse_in(uint8_t pin, uint8_t level, uint32_t timeout_us) {
   const int64_t start = mcu_enter(SEAR_CALL_pulse_in);
   mcu_check_pin(pin, "pulse_in");
+  sear_mcu.link->usage.pin_read[pin] = 1;
   const uint8_t want = level ? HIGH : LOW;
   const uint8_t other = level ? LOW : HIGH;
   const int64_t deadline = start + (int64_t)timeout_us * 1000;

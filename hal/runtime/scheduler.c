@@ -266,6 +266,7 @@ __attribute__((constructor(101))) static void start_mcu(void) {
   mcu_link_attach();
   const struct sear_link *link = sear_mcu.link;
   sear_mcu.cost_ns = link->hal_call_cost_ns;
+  sear_mcu.link->usage.usage_kept = 1;
   sear_mcu.adc_bits = 10;
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) sear_mcu.driven[pin] = MCU_FLOATING;
   /* The devices start within the first turn, so that the levels they drive at once reach the

@@ -40,7 +40,7 @@ const DeviceKind& hcsr04_kind() {
   static const DeviceKind kind = [] {
     DeviceKind k{"hcsr04", "HC-SR04 ultrasonic ranger, 2 cm to 4 m: TRIG in, ECHO pulse out (58 us per cm)",
                  Mount::PositionYawPitch, 1,
-                 {{"trig", WireKind::McuPin, true, "the pin the firmware pulses to start a measurement"},
+                 {{"trig", WireKind::McuPin, true, "the pin the firmware pulses to start a measurement", -1, WireUse::Pulses},
                   {"echo", WireKind::DevicePin, true, "the pin the echo pulse comes back on"}},
                  sonar_params(15.0, 2.0, 4.5, 45.0),
                  [](const DeviceDesc& d, DeviceHost& h) -> std::unique_ptr<SimDevice> {

@@ -68,7 +68,7 @@ const DeviceKind& mpu6000_kind() {
   static const DeviceKind kind{
       "mpu6000", "InvenSense MPU-6000 6-axis IMU on SPI (mode 0 or 3; writes at <= 1 MHz, reads at <= 20 MHz)",
       Mount::Full, 1,
-      {{"cs", WireKind::McuPin, true, "its chip-select pin, active low"},
+      {{"cs", WireKind::McuPin, true, "its chip-select pin, active low", -1, WireUse::ChipSelect},
        {"int", WireKind::DevicePin, false, "the pin its INT (data ready) output drives"}},
       imu_params(),
       [](const DeviceDesc& d, DeviceHost& h) -> std::unique_ptr<SimDevice> { return std::make_unique<Mpu>(d, h, true); }};

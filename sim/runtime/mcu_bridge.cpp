@@ -176,23 +176,28 @@ void McuBridge::drain(std::size_t index, McuListener& listener) {
     switch (e.kind) {
       case SEAR_EVENT_PIN_MODE:
         pin_output_[e.index] = e.value == 1;  // OUTPUT
+        usage_.made_output[e.index] = usage_.made_output[e.index] || pin_output_[e.index];
         // An output's level follows as a PIN event; an input lets go of the device's line.
         if (!pin_output_[e.index] && pin_listener_[e.index] >= 0)
           devices_[static_cast<std::size_t>(pin_listener_[e.index])]->pin_written(e.index, -1, e.time_ns);
         break;
       case SEAR_EVENT_PIN:
         pin_drive_[e.index] = e.value ? 255 : 0;
+        usage_.levels[e.index] |= e.value ? 2 : 1;
         if (pin_listener_[e.index] >= 0)
           devices_[static_cast<std::size_t>(pin_listener_[e.index])]->pin_written(e.index, e.value ? 1 : 0, e.time_ns);
         break;
       case SEAR_EVENT_PWM:
         pin_drive_[e.index] = static_cast<int>(e.value);
+        usage_.waveform[e.index] = true;
         break;
       case SEAR_EVENT_SERVO:
         servo_pulse_us_[e.index] = static_cast<int>(e.value);
+        usage_.waveform[e.index] = usage_.waveform[e.index] || e.value;
         break;
       case SEAR_EVENT_UART_BEGIN:
         port_baud_[e.index] = e.value;
+        usage_.uart_begun[e.index] = true;
         for (SerialLink& s : serial_)
           if (s.port == e.index && !s.host) s.to_mcu.set_receiver_baud(e.value, e.time_ns);
         break;
@@ -244,6 +249,16 @@ void McuBridge::command_actuators() {
     vehicle_.command_servo(static_cast<std::size_t>(vehicle_.servo_index(s.servo)), servo_pulse_us_[s.pin]);
 }
 
+void McuBridge::note_usage() {
+  usage_.link = process_->link().usage;
+  // Only the firmware's own process writes its stdout; the AVR engine's is simavr's.
+  if (!usage_.stdout_ns && desc_.engine == "native" && process_->wrote_stdout()) usage_.stdout_ns = process_->clock_ns();
+}
+
+bool McuBridge::device_on_host(std::size_t i) const {
+  return std::any_of(serial_.begin(), serial_.end(), [&](const SerialLink& s) { return s.device_index == i && s.host; });
+}
+
 bool McuBridge::take_readings() {
   sear_link& link = process_->link();
   for (std::size_t i = 0; i < inputs_.size(); ++i) {
@@ -269,6 +284,7 @@ McuBridge::Outcome McuBridge::finish_quantum(std::size_t index, McuListener& lis
     const McuProcess::Turn turn = process_->wait();
     if (turn == McuProcess::Turn::Interrupted) return Outcome::Interrupted;
     drain(index, listener);  // whatever it wrote before stopping is kept too
+    note_usage();
     if (!process_->failure() && !take_readings()) {
       release_actuators();
       listener.on_stop(index, reading_failure_->time_ns);

@@ -18,6 +18,7 @@
 #include "runtime/can_frame.hpp"
 #include "runtime/host_serial.hpp"
 #include "runtime/mcu_process.hpp"
+#include "runtime/mcu_usage.hpp"
 #include "runtime/run_tap.hpp"
 #include "runtime/serial_wire.hpp"
 #include "scene/description.hpp"
@@ -74,6 +75,12 @@ class McuBridge {
   // it queued for later is written.
   void shut_down(std::size_t index, std::int64_t time_ns, McuListener& listener);
   bool running() const { return process_ && !process_->failure(); }
+  // What the firmware did with its pins, ports and buses so far (for the wiring report).
+  const McuUsage& usage() const { return usage_; }
+  // The device desc().devices[i] talks to the host rather than to the firmware's port.
+  bool device_on_host(std::size_t i) const;
+  // Which desc().devices entry each link input's model belongs to.
+  const std::vector<std::size_t>& input_devices() const { return input_device_; }
 
   // CAN: the bit rate the firmware began its controller at (0: not begun), the frames it queued
   // in the quantum just finished (taken once), and what the bus did for it, passed on to the
@@ -134,6 +141,9 @@ class McuBridge {
   std::array<int, SEAR_LINK_PINS> pin_listener_{};          // the device told of writes to a pin, or -1
   std::vector<serial_byte> line_bytes_;                     // scratch, per exchange: decoded bytes
   std::vector<serial_byte> sent_bytes_;                     // scratch: what a device sends in a quantum
+
+  McuUsage usage_;
+  void note_usage();  // after each turn
 
   std::uint32_t can_bitrate_ = 0;
   std::uint32_t can_begins_ = 0;

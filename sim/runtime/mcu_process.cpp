@@ -112,11 +112,17 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
                        const std::vector<std::string>& args) {
   const int exe = open(executable.c_str(), O_RDONLY | O_CLOEXEC);
   if (exe < 0) throw std::runtime_error(fmt::format("cannot start firmware {}: {}", executable, std::strerror(errno)));
-  const int log = open(host_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (log < 0) {
+  // Its stdout and stderr go to the one log, each through its own open file, both appending: the
+  // offset of the stdout's (which this process keeps) then moves only when the firmware prints.
+  const int log = open(host_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
+  const int out = log < 0 ? -1 : open(host_log.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (out < 0) {
+    const int error = errno;
     close(exe);
-    throw std::runtime_error(fmt::format("{}: error: cannot write: {}", host_log, std::strerror(errno)));
+    if (log >= 0) close(log);
+    throw std::runtime_error(fmt::format("{}: error: cannot write: {}", host_log, std::strerror(error)));
   }
+  stdout_fd_ = out;
   // Everything the child needs is prepared here: after fork() it may only make system calls.
   const std::vector<std::string> env_text = firmware_environment();
   std::vector<char*> env;
@@ -129,7 +135,8 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
   char empty[] = "";
   const char* const path = executable.c_str();
   const pid_t simulator = getpid();
-  const int link_fd = out_of_the_way(fd_), exe_fd = out_of_the_way(exe), log_fd = out_of_the_way(log);
+  const int link_fd = out_of_the_way(fd_), exe_fd = out_of_the_way(exe), log_fd = out_of_the_way(log),
+            out_fd = out_of_the_way(out);
   close(exe);
   close(log);
   const rlim_t limit = max_file_bytes >= RLIM_INFINITY ? RLIM_INFINITY : static_cast<rlim_t>(max_file_bytes);
@@ -162,7 +169,7 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
     sigprocmask(SIG_SETMASK, &none, nullptr);
     const int null = open("/dev/null", O_RDONLY);
     dup2(null, STDIN_FILENO);
-    dup2(log_fd, STDOUT_FILENO);
+    dup2(out_fd, STDOUT_FILENO);
     dup2(log_fd, STDERR_FILENO);
     dup2(link_fd, kLinkFd);                    // without close-on-exec: the firmware maps it
     dup3(exe_fd, kExecutableFd, O_CLOEXEC);
@@ -180,6 +187,7 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
   close(link_fd);
   close(exe_fd);
   close(log_fd);
+  close(out_fd);
   if (report_fd >= 0) close(report_fd);
   if (pid_ < 0) {
     pid_ = -1;
@@ -204,6 +212,12 @@ McuProcess::~McuProcess() {
   kill_group();
   if (link_) munmap(link_, sizeof(sear_link));
   if (fd_ >= 0) close(fd_);
+  if (stdout_fd_ >= 0) close(stdout_fd_);
+}
+
+bool McuProcess::wrote_stdout() {
+  if (!stdout_seen_ && stdout_fd_ >= 0) stdout_seen_ = lseek(stdout_fd_, 0, SEEK_CUR) > 0;
+  return stdout_seen_;
 }
 
 // The firmware and whatever it forked, stopped ones included: SIGKILL needs no cooperation.

@@ -66,6 +66,8 @@ class McuProcess {
   const std::optional<McuFailure>& failure() const { return failure_; }
   // The firmware's clock at its last checked hand-back.
   std::int64_t clock_ns() const { return watch_.clock_ns; }
+  // Whether the firmware has written to its standard output (not its stderr) so far.
+  bool wrote_stdout();
   // Its last HAL call as last checked, not as the firmware may since have written it.
   const char* last_call_name() const { return hal_call_name(watch_.last_call); }
 
@@ -82,6 +84,8 @@ class McuProcess {
 
   sear_link* link_ = nullptr;
   int fd_ = -1;
+  int stdout_fd_ = -1;  // the same open file as the firmware's stdout: its offset tells it printed
+  bool stdout_seen_ = false;
   pid_t pid_ = -1;  // also its process group
   double hang_timeout_s_;
   sear_link_watch watch_;

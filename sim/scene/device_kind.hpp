@@ -24,12 +24,18 @@ enum class WireKind {
   I2cAddress,  // 7-bit address on the MCU's I2C bus
 };
 
+// What the device needs of the firmware on a McuPin wire, for the run's wiring report
+// (runtime/wiring_report.hpp): any output will do, pulses (a trigger), or a chip select that
+// picks it for SPI transfers.
+enum class WireUse { Output, Pulses, ChipSelect };
+
 struct DeviceWire {
   const char* attribute;
   WireKind kind;
   bool required;
   const char* meaning;
   int fallback = -1;  // when absent and not required; -1: not wired
+  WireUse use = WireUse::Output;
 };
 
 struct DeviceParam {

@@ -11,6 +11,7 @@
 #include "exporters/mcu_capture.hpp"
 #include "runtime/lockstep.hpp"
 #include "runtime/simulation.hpp"
+#include "runtime/wiring_report.hpp"
 
 namespace sear {
 
@@ -42,6 +43,8 @@ struct RunOutcome {
   // MCUs on the AVR engine: "robot.mcu" and the report its engine wrote (CPU load, ISRs, top
   // functions, stack; docs/avr-engine.md).
   std::vector<std::pair<std::string, std::string>> avr_reports;
+  // Wiring that does not match what the firmware did (runtime/wiring_report.hpp), per MCU in order.
+  std::vector<WiringNote> wiring;
 };
 
 // "mcu rover.main crashed with signal 11 (...) at sim time 1.234 s; last HAL call: adc_read"

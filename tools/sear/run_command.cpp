@@ -239,6 +239,7 @@ int run_command(const RunOptions& options) {
     trace.write_row(sim);
     std::int64_t steps = 0;
     std::size_t stops_reported = 0, events_reported = 0;
+    std::vector<bool> stdout_told(lockstep.mcu_count());
     bool physics_failed = false;
     bool reset = false, controller_gone = false, view_reset = false;
     while (sim.time_ns() < end_ns && !stop_requested()) {
@@ -285,6 +286,20 @@ int run_command(const RunOptions& options) {
         if (checker) checker->mcu_stopped(stop.mcu, stop.failure.time_ns, describe(stop));
         if (view_model) view_model->mcu_stopped(stop.mcu, describe(stop));
       }
+      // printf() reaches the host log only: said once, the first time, where the user looks.
+      for (std::size_t i = 0; i < lockstep.mcu_count(); ++i) {
+        const McuBridge& mcu = lockstep.mcu(i);
+        if (stdout_told[i] || !mcu.usage().stdout_ns) continue;
+        stdout_told[i] = true;
+        if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
+        const int console = mcu.desc().console_uart;
+        fmt::print(stderr,
+                   "sear: mcu {} wrote to its standard output (printf, puts) by sim time {:.3f} s: that goes to "
+                   "{}/{}.host.log only; {} shows text on this console\n",
+                   mcu.id(), static_cast<double>(*mcu.usage().stdout_ns) * 1e-9, options.out_dir, mcu.id(),
+                   console >= 0 ? fmt::format("uart_print({}, ...) on its console UART", console)
+                                : std::string("uart_print() on the UART its console_uart names"));
+      }
       if (!go_on) break;
       // Every verdict known: nothing the run could still do changes the outcome.
       if (checker && checker->decided() && !options.go_on) break;
@@ -327,6 +342,13 @@ int run_command(const RunOptions& options) {
     }
 
     RunOutcome outcome;
+    // An MCU that stopped has its report already; what it never reached is no wiring mistake.
+    for (std::size_t i = 0; i < lockstep.mcu_count(); ++i)
+      if (!lockstep.mcu(i).failure())
+        for (auto& note : wiring_notes(lockstep.mcu(i))) outcome.wiring.push_back(std::move(note));
+    // Once, at the end, where the user looks: a run that completed can still have been useless.
+    for (const auto& note : outcome.wiring)
+      fmt::print(stderr, "sear: {}: {}\n", note.kind == WiringNote::Kind::Unused ? "wiring" : "note", note.text);
     outcome.project_file = path;
     outcome.project_name = project->name;
     outcome.seed = project->run.seed;

@@ -1,0 +1,23 @@
+// What one MCU's firmware did with its pins, ports and buses over a run, gathered for the wiring
+// report (runtime/wiring_report.hpp): from its events, and from the link's usage block where its
+// engine keeps one.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include "lockstep_link.h"
+
+namespace sear {
+
+struct McuUsage {
+  std::array<bool, SEAR_LINK_PINS> made_output{};    // pin_mode(pin, OUTPUT), or the chip's DDR bit
+  std::array<std::uint8_t, SEAR_LINK_PINS> levels{};  // levels driven as an output: bit 0 LOW, bit 1 HIGH
+  std::array<bool, SEAR_LINK_PINS> waveform{};        // PWM or servo pulses
+  std::array<bool, SEAR_LINK_UARTS> uart_begun{};
+  sear_link_usage link{};  // the link's block as of the MCU's last turn; link.usage_kept 0: none kept
+  std::optional<std::int64_t> stdout_ns;  // the end of the turn in which it first wrote to its stdout
+};
+
+}  // namespace sear
