@@ -13,6 +13,7 @@
 
 #include "exporters/can_logs.hpp"
 #include "exporters/mcu_capture.hpp"
+#include "exporters/pin_labels.hpp"
 #include "exporters/plot_runner.hpp"
 #include "exporters/sensor_csv.hpp"
 #include "exporters/world_json.hpp"
@@ -221,7 +222,8 @@ int run_command(const RunOptions& options) {
     TraceCsv trace(out_dir, sim, max_file_bytes);
     std::vector<McuCapture::Mcu> mcus;
     for (const auto& robot : project->robots)
-      for (const auto& mcu : robot.mcus) mcus.push_back({robot.name + "." + mcu.name, mcu.console_uart});
+      for (const auto& mcu : robot.mcus)
+        mcus.push_back({robot.name + "." + mcu.name, mcu.console_uart, true, pin_labels(mcu)});
     McuCapture capture(out_dir, mcus, !options.quiet, max_file_bytes);
     LockstepOptions lockstep_options;
     lockstep_options.mcu.host_serial = host_ports.serial_ends();
