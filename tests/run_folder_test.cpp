@@ -87,6 +87,14 @@ TEST(RunFolder, OutIntoAnEarlierRunsFolderEmptiesItAndIntoAnyOtherFolderIsRefuse
   EXPECT_TRUE(fs::exists(dir.path() / "mine" / "summary.json"));
   EXPECT_FALSE(fs::exists(dir.path() / "sear-out"));  // --out given: no default folder, no latest link
 
+  // A run's folder from before the mark: its first and last files say what it is.
+  dir.write("old/world.json", "{}");
+  dir.write("old/summary.json", "{}");
+  dir.write("old/trace_gone.csv", "t");
+  ASSERT_EQ(sear_in(dir.path(), "run p.xml -q -o old").exit_code, 0);
+  EXPECT_FALSE(fs::exists(dir.path() / "old" / "trace_gone.csv"));
+  EXPECT_TRUE(fs::exists(dir.path() / "old" / ".sear-run"));
+
   // A folder of the user's: nothing written, nothing deleted, and the message says why.
   dir.write("notes/ideas.txt", "mine");
   const Shell refused = sear_in(dir.path(), "run p.xml -q -o notes");

@@ -36,7 +36,11 @@ std::string default_run_folder(const std::string& name, bool view) {
 void prepare_run_folder(const std::string& dir) {
   const fs::path folder(dir);
   std::error_code error;
-  if (fs::exists(folder / kRunFolderMark, error)) {
+  // Runs of SEAR before the mark left world.json first and summary.json last: such a folder is a
+  // run's too (as `sear test`'s case folders from an earlier version are).
+  const bool earlier_run = fs::exists(folder / kRunFolderMark, error) ||
+                           (fs::exists(folder / "world.json", error) && fs::exists(folder / "summary.json", error));
+  if (earlier_run) {
     // An earlier run's folder: all of it was that run's (cross-checks hold two runs' folders).
     for (const auto& entry : fs::directory_iterator(folder)) fs::remove_all(entry.path());
   } else if (fs::is_directory(folder, error)) {

@@ -15,7 +15,7 @@ inline constexpr const char* kRunFolderMark = ".sear-run";
 std::string default_run_folder(const std::string& name, bool view);
 
 // Makes `dir` ready for a run: creates it, or empties it when it holds an earlier run (its
-// mark), then marks it. A folder holding anything else is refused (std::runtime_error naming it
+// mark, or an unmarked one's world.json and summary.json), then marks it. A folder holding anything else is refused (std::runtime_error naming it
 // and a file in it), so a run never mixes its files with others nor deletes what is not a run's.
 void prepare_run_folder(const std::string& dir);
 
