@@ -106,6 +106,20 @@ TEST_P(SearNew, WritesAProjectWhoseExpectationsPass) {
   const Verdicts v = junit_verdicts(report);
   EXPECT_EQ(v.tests, expected) << read_file(report);
   EXPECT_EQ(v.failures, 0) << read_file(report);
+
+  // The files the templates' comments send a reader to are the ones the run wrote, in the folder
+  // `sear run .` writes by default.
+  for (const char* file : {"main.c", "project.xml", "README.md"}) {
+    const std::string text = read_file(dir / file);
+    std::size_t named = 0;
+    const std::regex output_file("[A-Za-z0-9_.]+\\.(log|csv|json|vcd)\\b");
+    for (std::sregex_iterator m(text.begin(), text.end(), output_file), end; m != end; ++m, ++named)
+      EXPECT_TRUE(fs::exists(temp_.path() / "out" / m->str())) << file << " names " << m->str();
+    EXPECT_GE(named, 1u) << file << " names none of the run's files";
+    const std::regex folder("sear-out/([^/ `]*)");
+    for (std::sregex_iterator m(text.begin(), text.end(), folder), end; m != end; ++m)
+      EXPECT_EQ((*m)[1].str(), name) << file << ": " << m->str();
+  }
 }
 
 TEST_P(SearNew, CMakeBuildsTheFirmwareForTheSimulatorAndItRuns) {

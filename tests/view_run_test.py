@@ -277,6 +277,25 @@ class ViewRun(unittest.TestCase):
         self.assertLess(abs(float(probe[-1]["x_m"]) - float(probe[0]["x_m"])), 0.01)
         self.assertEqual(sear.stderr().count("robot 'probe' has an MCU"), 1, sear.stderr())
 
+    def test_a_view_stopped_before_its_end_keeps_to_its_own_folder(self):
+        """Without --out, `sear run` writes sear-out/viewtest/ and `sear view` sear-out/viewtest.view/:
+        a view ended with Ctrl-C while it waits for Start leaves the completed run as it was."""
+        p = self.project_file(0.2)
+        subprocess.run([SEAR, "run", p, "-q"], cwd=self.dir, check=True)
+        sear = Sear(["view", p, "--port", "0", "-q"], self.dir)
+        self.assertIsNotNone(sear.address, sear.stderr())
+        sear.proc.send_signal(signal.SIGINT)
+        code = sear.wait()
+        err = sear.stderr()
+        sear.proc.stderr.close()
+        self.assertEqual(code, 130, err)
+        out = os.path.join(self.dir, "sear-out")
+        with open(os.path.join(out, "viewtest", "summary.json")) as f:
+            self.assertEqual(json.load(f)["status"], "completed")
+        with open(os.path.join(out, "viewtest.view", "summary.json")) as f:
+            self.assertEqual(json.load(f)["status"], "interrupted")
+        self.assertEqual(os.readlink(os.path.join(out, "latest")), "viewtest.view")
+
     def test_view_waits_for_start_keeps_serving_after_the_end_and_resets(self):
         sear = Sear(["view", self.project_file(1), "--port", "0", "-q", "-o", "out"], self.dir)
         page = sear.page()

@@ -141,14 +141,14 @@ TEST(Waveform, TheFirmwaresDutiesPulsesAndBytesReadBackThroughGtkwave) {
   };
   // "AAB" at 9600 baud from 0 s: the two A's apart, A and B joined; the looped-back RX carries
   // the same bytes at the same times.
-  EXPECT_EQ(waves.at("uart1_tx"), bytes("AAB", 0, 9600));
-  EXPECT_EQ(waves.at("uart1_rx"), bytes("AAB", 0, 9600));
-  EXPECT_EQ(waves.at("uart1_tx").size(), 6u);  // 'z' at 0, A, 'z', A, B, 'z'
+  EXPECT_EQ(waves.at("uart1_tx_loopback"), bytes("AAB", 0, 9600));
+  EXPECT_EQ(waves.at("uart1_rx_loopback"), bytes("AAB", 0, 9600));
+  EXPECT_EQ(waves.at("uart1_tx_loopback").size(), 6u);  // 'z' at 0, A, 'z', A, B, 'z'
   // 64 bytes back to back at 500 kbaud from 60 ms, each value twice: 20 us a frame.
   std::string burst;
   for (int i = 0; i < 64; ++i) burst += static_cast<char>(i / 2);
   EXPECT_EQ(waves.at("uart2_tx"), bytes(burst, 60 * kMs, 500000));
-  for (const char* quiet : {"uart0_tx", "uart0_rx", "uart2_rx", "uart3_tx", "uart3_rx"})
+  for (const char* quiet : {"uart0_tx_console.rx", "uart0_rx_console.tx", "uart2_rx", "uart3_tx", "uart3_rx"})
     EXPECT_EQ(waves.at(quiet), (std::vector<Change>{{0, kZ}})) << quiet;
 }
 
@@ -215,14 +215,14 @@ TEST(Waveform, UartPinsCarryTheirFramesForALogicAnalysersDecoder) {
   for (const Change& c : frames("AAB", 0, 9600)) tx1.push_back(c);
   // The first edge falls at 0 too, where the idle level was shown: what a viewer shows is the last.
   tx1.erase(tx1.begin());
-  expect_edges(waves.at("D18"), tx1, "D18");
-  expect_edges(waves.at("D19"), tx1, "D19");
+  expect_edges(waves.at("D18_loopback"), tx1, "D18");
+  expect_edges(waves.at("D19_loopback"), tx1, "D19");
   std::string burst;
   for (int i = 0; i < 64; ++i) burst += static_cast<char>(i / 2);
   std::vector<Change> tx2{{0, kZ}};  // its uart_begin's idle level at 60 ms gives way to the first start bit
   for (const Change& c : frames(burst, 60 * kMs, 500000)) tx2.push_back(c);
   expect_edges(waves.at("D16"), tx2, "D16");
-  EXPECT_EQ(waves.at("D1"), (std::vector<Change>{{0, kZ}}));  // UART 0 never began
+  EXPECT_EQ(waves.at("D1_console.rx"), (std::vector<Change>{{0, kZ}}));  // UART 0 never began
   // Written after D4's change at 1.5 ms, the second byte's frame still has its own edges, from
   // 1.04 ms on: the waveform stays a frame behind the run.
   EXPECT_EQ(waves.at("D4"), (std::vector<Change>{{0, 0}, {1500000, 1}}));
@@ -238,9 +238,62 @@ TEST(Waveform, UartPinsCarryTheirFramesForALogicAnalysersDecoder) {
   const SearRun costed = run_sear(costed_dir, rover_project(waveform_probe_mcu("50"), "", 0.1), "--quiet");
   ASSERT_EQ(costed.exit_code, 0) << costed.err;
   const fs::path vcd = costed.dir / "rover.main.pins.vcd";
-  EXPECT_EQ(sigrok_uart(vcd, "D18", 9600), "41 41 42 ");
-  EXPECT_EQ(sigrok_uart(vcd, "D19", 9600), "41 41 42 ");
+  EXPECT_EQ(sigrok_uart(vcd, "D18_loopback", 9600), "41 41 42 ");
+  EXPECT_EQ(sigrok_uart(vcd, "D19_loopback", 9600), "41 41 42 ");
   EXPECT_EQ(sigrok_uart(vcd, "D16", 500000), hex_of(burst));
+}
+
+// Each pin is named after what is wired to it (a motor's inputs, a sensor's, a UART's far end, a
+// jumper), with its number kept, so that a logic analyser's view reads as the wiring; GTKWave's
+// reader keeps the names and sigrok's UART decoder finds a named pin.
+TEST(Waveform, PinsAreNamedAfterWhatIsWiredToThem) {
+  TempDir dir;
+  const std::string mcu = std::string("    <mcu name=\"main\" console_uart=\"2\">\n      <firmware executable=\"") +
+                          WAVEFORM_PROBE +
+                          "\"/>\n      <uart port=\"1\" loopback=\"true\"/>\n"
+                          "      <motor name=\"left\" pwm=\"3\" dir=\"12\" brake=\"9\"/>\n"
+                          "      <hcsr04 name=\"sonar\" trig=\"24\" echo=\"10\" pos=\"0.15 0 0.05\"/>\n"
+                          "      <gp2d12 name=\"ir_front\" adc=\"1\" pos=\"0.15 0 0.02\"/>\n    </mcu>\n";
+  const SearRun run = run_sear(dir, rover_project(mcu, "", 0.1), "--quiet");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::vector<std::string> expected;
+  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) expected.push_back("D" + std::to_string(pin));
+  expected[3] = "D3_left.pwm";
+  expected[9] = "D9_left.brake";
+  expected[10] = "D10_sonar.echo";
+  expected[12] = "D12_left.dir";
+  expected[16] = "D16_console.rx";  // the console's RX is on the MCU's TX2
+  expected[17] = "D17_console.tx";
+  expected[18] = "D18_loopback";
+  expected[19] = "D19_loopback";
+  expected[24] = "D24_sonar.trig";
+  expected[55] = "D55_ir_front.adc";  // A1
+  std::vector<std::string> declared;
+  for (const auto& line : lines_of(run.file("rover.main.pins.vcd"))) {
+    std::istringstream words(line);
+    std::string var, type, size, id, name;
+    if (words >> var >> type >> size >> id >> name && var == "$var") declared.push_back(name);
+  }
+  EXPECT_EQ(declared, expected);
+  const fs::path pins = run.dir / "rover.main.pins.vcd", values = run.dir / "rover.main.values.vcd";
+  EXPECT_EQ(read_vcd(round_trip(pins, dir.path())), read_vcd(run.file("rover.main.pins.vcd")));
+  const Waves duties = read_vcd(round_trip(values, dir.path()));
+  // The probe's first pwm_write(3, 64), 5 ms in, on the value named after the pin's motor input.
+  ASSERT_GE(duties.at("D3_pwm_left.pwm").size(), 2u);
+  EXPECT_EQ(duties.at("D3_pwm_left.pwm")[1].value, 64);
+  // Its delays add up to 5 ms; each of the six HAL calls up to the write (hal_init to the second
+  // delay_us) adds at most the default 50 cycles at 16 MHz, 3.125 us.
+  EXPECT_GE(duties.at("D3_pwm_left.pwm")[1].t, 5 * kMs);
+  EXPECT_LE(duties.at("D3_pwm_left.pwm")[1].t, 5 * kMs + 6 * 3125);
+  EXPECT_EQ(duties.count("uart2_tx_console.rx"), 1u);
+
+  if (std::system("command -v sigrok-cli >/dev/null") != 0) {
+    if (std::getenv("CI")) FAIL() << "sigrok-cli is missing (scripts/install-deps.sh installs it)";
+    GTEST_SKIP() << "sigrok-cli is not installed";
+  }
+  std::string burst;
+  for (int i = 0; i < 64; ++i) burst += static_cast<char>(i / 2);
+  EXPECT_EQ(sigrok_uart(pins, "D16_console.rx", 500000), hex_of(burst));
 }
 
 // A byte's end is written in time order with the other changes, never past the MCU's stop or the

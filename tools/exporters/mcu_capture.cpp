@@ -53,7 +53,7 @@ McuCapture::McuCapture(std::string out_dir, std::vector<Mcu> mcus, bool echo, st
     if (m.console_uart >= 0) s.console = open(m.id + ".console.log", text_truncation_note(max_file_bytes_));
     s.pins = open(m.id + ".pins.vcd", vcd_truncation_note(max_file_bytes_));
     s.values = open(m.id + ".values.vcd", vcd_truncation_note(max_file_bytes_));
-    s.waveform = std::make_unique<PinWaveform>(*s.pins, *s.values, m.id, m.waveform_uart_bytes);
+    s.waveform = std::make_unique<PinWaveform>(*s.pins, *s.values, m.id, m.waveform_uart_bytes, m.pin_labels);
     states_.push_back(std::move(s));
   }
 }

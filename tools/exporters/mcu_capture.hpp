@@ -36,6 +36,7 @@ class McuCapture : public McuListener {
     std::string id;    // "robot.mcu", the stem of its files
     int console_uart;  // -1: none
     bool waveform_uart_bytes = true;  // the VCD shows each UART byte (PinWaveform)
+    std::vector<std::string> pin_labels = {};  // what is wired to each pin (exporters/pin_labels.hpp)
   };
   // `echo`: console lines also go to standard output, with the MCU and the sim time; a closed
   // standard output ends the echo, not the run. No file grows past `max_file_bytes`.

@@ -43,13 +43,19 @@ int PinWaveform::uart_rx_pin(int port) {
   return pins[port];
 }
 
-PinWaveform::PinWaveform(BoundedFile& pins, BoundedFile& values, const std::string& mcu_id, bool uart_bytes)
+PinWaveform::PinWaveform(BoundedFile& pins, BoundedFile& values, const std::string& mcu_id, bool uart_bytes,
+                         const std::vector<std::string>& labels)
     : pins_(pins), values_(values), uart_bytes_(uart_bytes) {
+  // "name" -> "name_label" where the pin is wired, else "name".
+  const auto wired = [&](std::string name, int pin) {
+    if (pin < static_cast<int>(labels.size()) && !labels[pin].empty()) name += "_" + labels[pin];
+    return name;
+  };
   const std::string scope = fmt::format("$timescale 1 ns $end\n$scope module {} $end\n", mcu_id);
   std::string header = fmt::format("$comment SEAR pin levels of mcu {} $end\n", mcu_id) + scope;
   std::string initial;
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) {
-    header += fmt::format("$var wire 1 {} D{} $end\n", vcd_id(pin), pin);
+    header += fmt::format("$var wire 1 {} {} $end\n", vcd_id(pin), wired(fmt::format("D{}", pin), pin));
     initial += fmt::format("z{}\n", vcd_id(pin));
   }
   mode_.fill(0);    // INPUT, as at reset
@@ -69,13 +75,13 @@ PinWaveform::PinWaveform(BoundedFile& pins, BoundedFile& values, const std::stri
   };
   // The UART lines first: they change most often, and so get one-character identifiers.
   for (int port = 0; port < kPorts && uart_bytes_; ++port) {
-    lines_[2 * port].id = declare(kUartBits, fmt::format("uart{}_tx", port));
-    lines_[2 * port + 1].id = declare(kUartBits, fmt::format("uart{}_rx", port));
+    lines_[2 * port].id = declare(kUartBits, wired(fmt::format("uart{}_tx", port), uart_tx_pin(port)));
+    lines_[2 * port + 1].id = declare(kUartBits, wired(fmt::format("uart{}_rx", port), uart_rx_pin(port)));
   }
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) {
     duty_[pin] = servo_[pin] = -1;
-    if (has_pwm(pin)) duty_id_[pin] = declare(kPwmBits, fmt::format("D{}_pwm", pin));
-    if (has_servo(pin)) servo_id_[pin] = declare(kServoBits, fmt::format("D{}_servo_us", pin));
+    if (has_pwm(pin)) duty_id_[pin] = declare(kPwmBits, wired(fmt::format("D{}_pwm", pin), pin));
+    if (has_servo(pin)) servo_id_[pin] = declare(kServoBits, wired(fmt::format("D{}_servo_us", pin), pin));
   }
   values_.file.write(header + "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n" + initial + "$end\n");
 }

@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "exporters/bounded_file.hpp"
 #include "lockstep_link.h"
@@ -34,7 +35,11 @@ class PinWaveform {
   // Writes the headers to `pins` and `values`, with every pin an input ('z') and nothing on any
   // port at #0. Without `uart_bytes` the ports' bytes are left out of the values: a port
   // streaming at 500 kbaud adds about 1.2 MB a simulated second (some 23 bytes a byte).
-  PinWaveform(BoundedFile& pins, BoundedFile& values, const std::string& mcu_id, bool uart_bytes = true);
+  // `labels` (exporters/pin_labels.hpp), one a pin or none, name what is wired to each pin:
+  // pin 22 is "D22_sonar.trig" where "D22" alone would say nothing, and a value on it is named
+  // after it ("D5_pwm_left.pwm", "uart1_tx_gps.rx").
+  PinWaveform(BoundedFile& pins, BoundedFile& values, const std::string& mcu_id, bool uart_bytes = true,
+              const std::vector<std::string>& labels = {});
 
   // A batch of the MCU's events, in time order with those before, written at once; the kinds
   // the waveform does not show (CAN) are ignored.

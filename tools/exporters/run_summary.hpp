@@ -28,7 +28,7 @@ struct RunOutcome {
   struct HostPort {
     std::string name;  // "rover.main.gps" or "can_bus body"
     std::string path;  // "/dev/pts/3" or "vcan0"
-    std::string link;  // a pty's stable link, "sear-out/rover.main.gps.pty"; empty for CAN
+    std::string link;  // a pty's stable link, "OUT/rover.main.gps.pty"; empty for CAN
     std::uint64_t dropped = 0;  // bytes or frames lost at this end (nobody reading, a full queue)
   };
   std::vector<HostPort> host_ports;

@@ -16,7 +16,7 @@ struct RunOptions {
   std::optional<double> trace_rate_hz;   // overrides the project's <run trace_rate>
   std::string engine;                    // "native" or "avr" for every MCU; empty: each <mcu engine>
   bool cross_check = false;              // run on both engines and report where they part (cross_check.cpp)
-  std::string out_dir = "sear-out";
+  std::string out_dir;                   // empty: sear-out/SCENARIO (sear/run_folder.hpp)
   bool quiet = false;
   double hang_timeout_s = 5;  // host seconds a firmware may go without progress
   bool keep_going = false;    // a stopped firmware does not end the run

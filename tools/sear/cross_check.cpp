@@ -13,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "expect/scenario_loader.hpp"
 #include "sear/commands.hpp"
+#include "sear/run_folder.hpp"
 
 namespace sear {
 namespace {
@@ -55,7 +57,26 @@ std::vector<ConsoleLine> console_lines(const fs::path& path) {
 
 }  // namespace
 
-int cross_check_command(const RunOptions& options) {
+int cross_check_command(const RunOptions& given) {
+  RunOptions options = given;
+  // Both runs in one folder, a run's folder like any other (sear-out/SCENARIO by default).
+  const bool default_folder = options.out_dir.empty();
+  if (default_folder) {
+    Diagnostics diagnostics;
+    const auto scenario = load_scenario(resolve_project_path(options.project), diagnostics);
+    if (!scenario) {
+      fmt::print(stderr, "{}", diagnostics.joined());
+      return 1;
+    }
+    options.out_dir = default_run_folder(scenario->name, false);
+  }
+  try {
+    prepare_run_folder(options.out_dir);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "{}\n", e.what());
+    return 1;
+  }
+  if (default_folder) point_latest_at(options.out_dir);
   const std::string engines[2] = {"native", "avr"};
   int codes[2] = {0, 0};
   for (int e = 0; e < 2; ++e) {

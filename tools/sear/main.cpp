@@ -59,7 +59,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("-d,--duration", run.duration_s, "Simulated seconds to run (default: the project's <run duration>)")
       ->check(finite_number(0, sear::kMaxTime_s, true, "a number of seconds > 0 and <= 1e7"));
   run_cmd->add_option("-s,--seed", run.seed, "Random seed (default: the project's <run seed>)")->check(seed_number());
-  run_cmd->add_option("-o,--out", run.out_dir, "Output folder for traces and the summary")->capture_default_str();
+  run_cmd->add_option("-o,--out", run.out_dir,
+                      "Output folder for traces and the summary, emptied of an earlier run's files first (default: "
+                      "sear-out/NAME, NAME the scenario's or project's; sear-out/latest links to the last)");
   run_cmd->add_option("-r,--trace-rate", run.trace_rate_hz,
                       "Trace rows per simulated second, rounded to whole steps (default: the project's)")
       ->check(finite_number(sear::kMinTraceRate_hz, sear::kMaxTraceRate_hz, false, "a rate of 0.01..1e6 Hz"));
@@ -193,7 +195,9 @@ int main(int argc, char** argv) {
   view_cmd->add_option("-d,--duration", view.duration_s, "Simulated seconds to run (default: the project's)")
       ->check(finite_number(0, sear::kMaxTime_s, true, "a number of seconds > 0 and <= 1e7"));
   view_cmd->add_option("-s,--seed", view.seed, "Random seed (default: the project's)")->check(seed_number());
-  view_cmd->add_option("-o,--out", view.out_dir, "Output folder for traces and the summary")->capture_default_str();
+  view_cmd->add_option("-o,--out", view.out_dir,
+                       "Output folder for traces and the summary, emptied of an earlier run's files first (default: "
+                       "sear-out/NAME.view)");
   view_cmd->add_option("-r,--trace-rate", view.trace_rate_hz, "Trace rows per simulated second (default: the project's)")
       ->check(finite_number(sear::kMinTraceRate_hz, sear::kMaxTraceRate_hz, false, "a rate of 0.01..1e6 Hz"));
   view_cmd->add_flag("-q,--quiet", view.quiet, "Print nothing but errors (and the viewer's address)");

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "sear/commands.hpp"
+#include "sear/run_folder.hpp"
 
 namespace sear {
 namespace {
@@ -117,6 +118,7 @@ int new_command(const NewOptions& options) {
     const std::vector<std::pair<std::string, std::string>> values = {
         {"@NAME@", name},
         {"@TEMPLATE@", options.template_name},
+        {"@OUT@", default_run_folder(name, false)},  // where `sear run .` writes
         {"@SEAR_SOURCE_DIR@", SEAR_SOURCE_DIR},
         {"@SEAR_HAL_LIBRARY@", SEAR_HAL_RUNTIME_LIBRARY},
         {"@SEAR_HAL_LINK_FLAGS@", link_flags.empty() ? link_flags : " " + link_flags},

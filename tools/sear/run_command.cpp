@@ -3,6 +3,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -12,6 +13,7 @@
 
 #include "exporters/can_logs.hpp"
 #include "exporters/mcu_capture.hpp"
+#include "exporters/pin_labels.hpp"
 #include "exporters/plot_runner.hpp"
 #include "exporters/sensor_csv.hpp"
 #include "exporters/world_json.hpp"
@@ -28,6 +30,7 @@
 #include "sear/commands.hpp"
 #include "sear/firmware_builder.hpp"
 #include "sear/host_ports.hpp"
+#include "sear/run_folder.hpp"
 #include "lcm/lcm_bridge.hpp"
 #include "sear/view_command.hpp"
 #include "view/replay_file.hpp"
@@ -86,6 +89,22 @@ std::string console_logs(const std::string& out_dir, const std::vector<McuCaptur
     text += fmt::format("== {} console ==\n{}", m.id, log.str());
   }
   return text;
+}
+
+// The summary's last line: where the run's files are, and which (the plots drawn among them). The
+// folder was emptied before the run, so every plot in it is this run's.
+std::string output_line(const std::string& out_dir, const std::vector<const BoundedFile*>& outputs) {
+  std::string line = fmt::format("  output: {}/ (summary.txt, summary.json", out_dir);
+  for (const auto* f : outputs) line += ", " + std::filesystem::path(f->path()).filename().string();
+  std::vector<std::string> plots;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(out_dir, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("plot_", 0) == 0 && entry.path().extension() == ".png") plots.push_back(name);
+  }
+  std::sort(plots.begin(), plots.end());  // a folder lists in no set order
+  for (const auto& p : plots) line += ", " + p;
+  return line + ")";
 }
 
 }  // namespace
@@ -151,6 +170,12 @@ int run_command(const RunOptions& options) {
     return 1;
   }
 
+  // One run, one folder: without --out, the scenario's own under sear-out/ (a `sear view`'s apart,
+  // so that a viewed run stopped half-way never replaces a completed one).
+  const bool default_folder = options.out_dir.empty();
+  const std::string out_dir =
+      default_folder ? default_run_folder(scenario->name, options.view_keep_serving) : options.out_dir;
+
   // Each AVR engine keeps its report (CPU load, ISRs, top functions, stack) in the output folder;
   // the summary takes it in at the end.
   std::vector<std::pair<std::string, std::string>> avr_reports;
@@ -158,14 +183,15 @@ int run_command(const RunOptions& options) {
     for (auto& mcu : robot.mcus) {
       if (mcu.engine != "avr") continue;
       const std::string id = robot.name + "." + mcu.name;
-      avr_reports.emplace_back(id, options.out_dir + "/" + id + ".avr.json");
+      avr_reports.emplace_back(id, out_dir + "/" + id + ".avr.json");
       mcu.firmware_args.insert(mcu.firmware_args.begin(), {"--report", avr_reports.back().second});
     }
   }
 
   try {
-    std::filesystem::create_directories(options.out_dir);
-    write_world_json(options.out_dir + "/world.json", *project);
+    prepare_run_folder(out_dir);
+    if (default_folder) point_latest_at(out_dir);
+    write_world_json(out_dir + "/world.json", *project);
     std::unique_ptr<LcmBridge> lcm;
     if (options.lcm_url || !options.lcm_log.empty() || options.lcm_lockstep > 0)
       lcm = std::make_unique<LcmBridge>(
@@ -188,29 +214,30 @@ int run_command(const RunOptions& options) {
     if (!options.replay.empty())
       replay = std::make_unique<ReplayFile>(options.replay, *project, *view_model, options.replay_rate_hz);
     // Opened once: a host program keeps its pty or interface across a reset.
-    const HostPorts host_ports(*project, options.ptys, options.cans, options.out_dir);
+    const HostPorts host_ports(*project, options.ptys, options.cans, out_dir);
     for (const auto& port : host_ports.listing())
       if (!options.quiet)
         fmt::print(stderr, "sear: {} on the host: {}{}\n", port.name, port.path,
                    port.link.empty() ? "" : " (link " + port.link + ")");
   start_over:  // SEAR/CONTROL's reset: the run is built again from here, at t = 0, its files rewritten
     Simulation sim(*project, project->run.seed);
-    TraceCsv trace(options.out_dir, sim, max_file_bytes);
+    TraceCsv trace(out_dir, sim, max_file_bytes);
     std::vector<McuCapture::Mcu> mcus;
     for (const auto& robot : project->robots)
-      for (const auto& mcu : robot.mcus) mcus.push_back({robot.name + "." + mcu.name, mcu.console_uart});
-    McuCapture capture(options.out_dir, mcus, !options.quiet, max_file_bytes);
+      for (const auto& mcu : robot.mcus)
+        mcus.push_back({robot.name + "." + mcu.name, mcu.console_uart, true, pin_labels(mcu)});
+    McuCapture capture(out_dir, mcus, !options.quiet, max_file_bytes);
     LockstepOptions lockstep_options;
     lockstep_options.mcu.host_serial = host_ports.serial_ends();
-    lockstep_options.out_dir = options.out_dir;
+    lockstep_options.out_dir = out_dir;
     lockstep_options.mcu.hang_timeout_s = options.hang_timeout_s;
     lockstep_options.mcu.max_file_bytes = max_file_bytes;
     lockstep_options.keep_going = options.keep_going;
-    CanLogs can_logs(options.out_dir, project->can_buses, max_file_bytes);
+    CanLogs can_logs(out_dir, project->can_buses, max_file_bytes);
     RunTaps taps;
     if (!project->can_buses.empty()) taps.add(&can_logs);
     if (lcm) taps.add(lcm.get());
-    SensorCsv sensors(options.out_dir, *project, 1.0 / project->run.trace_rate_hz, max_file_bytes);
+    SensorCsv sensors(out_dir, *project, 1.0 / project->run.trace_rate_hz, max_file_bytes);
     taps.add(&sensors);
     if (view_model) {
       view_model->restart();
@@ -282,7 +309,7 @@ int run_command(const RunOptions& options) {
       for (; stops_reported < lockstep.stops().size(); ++stops_reported) {
         const McuStop& stop = lockstep.stops()[stops_reported];
         if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
-        fmt::print(stderr, "sear: {} (its output: {}/{}.host.log)\n", describe(stop), options.out_dir, stop.mcu);
+        fmt::print(stderr, "sear: {} (its output: {}/{}.host.log)\n", describe(stop), out_dir, stop.mcu);
         if (checker) checker->mcu_stopped(stop.mcu, stop.failure.time_ns, describe(stop));
         if (view_model) view_model->mcu_stopped(stop.mcu, describe(stop));
       }
@@ -338,7 +365,7 @@ int run_command(const RunOptions& options) {
     if (!options.junit.empty()) {
       const ExpectationChecker none(*scenario, *project);
       write_junit(options.junit, {junit_suite(*scenario, project->run.seed, checker ? *checker : none, sim.time_ns(),
-                                              console_logs(options.out_dir, mcus))});
+                                              console_logs(out_dir, mcus))});
     }
 
     RunOutcome outcome;
@@ -375,22 +402,19 @@ int run_command(const RunOptions& options) {
     for (const auto* f : sensors.outputs()) outputs.push_back(f);
     for (const auto* f : outputs)
       if (f->truncated()) outcome.truncated_files.push_back(f->path());
-    for (auto& log : note_truncated_host_logs(options.out_dir, mcus, max_file_bytes))
+    for (auto& log : note_truncated_host_logs(out_dir, mcus, max_file_bytes))
       outcome.truncated_files.push_back(std::move(log));
     for (const auto& f : outcome.truncated_files)
       fmt::print(stderr, "sear: {} reached its limit of {} bytes (--max-file-mb) and was cut short\n", f, max_file_bytes);
     const std::string text = summary_text(sim, outcome);
-    write_file(options.out_dir + "/summary.txt", text);
-    write_file(options.out_dir + "/summary.json", summary_json(sim, outcome));
-    if (!options.quiet) {
-      std::string listing = fmt::format("  output: {}/ (summary.txt, summary.json", options.out_dir);
-      for (const auto* f : outputs) listing += ", " + std::filesystem::path(f->path()).filename().string();
-      print_to_stdout(text + listing + ")\n");
-    }
+    write_file(out_dir + "/summary.txt", text);
+    write_file(out_dir + "/summary.json", summary_json(sim, outcome));
+    if (!options.quiet) print_to_stdout(text);
     // After everything is on disk, from those files: a plot that fails costs a warning, never the run.
     const char* no_plots = std::getenv("SEAR_NO_PLOTS");
     if (options.plots && !(no_plots && *no_plots && std::string(no_plots) != "0") && !interrupted)
-      write_plots(options.out_dir);
+      write_plots(out_dir);
+    if (!options.quiet) print_to_stdout(output_line(out_dir, outputs) + "\n");
     // `sear view` shows the end until Ctrl-C, or starts over when the page says so.
     if (view && view->end_run(sim, outcome.status, options.view_keep_serving) == ViewSession::Gate::Reset) {
       fmt::print(stderr, "sear: reset by the viewer: the run starts over at t = 0\n");

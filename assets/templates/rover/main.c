@@ -34,7 +34,7 @@ static void drive(int16_t left, int16_t right) {
 int main(void) {
   /* ---- setup: runs once ---- */
   hal_init();
-  uart_begin(0, 115200); /* UART 0 is the console: sear's console.log, the board's USB serial */
+  uart_begin(0, 115200); /* UART 0 is the console: sear's rover.main.console.log, the board's USB serial */
   pin_mode(LEFT_DIR, OUTPUT);
   pin_mode(LEFT_BRAKE, OUTPUT);
   pin_mode(RIGHT_DIR, OUTPUT);

@@ -63,7 +63,7 @@ static int16_t imu_az(void) {
 int main(void) {
   /* ---- setup: runs once ---- */
   hal_init();
-  uart_begin(0, 115200); /* the console: sear's console.log, the board's USB serial */
+  uart_begin(0, 115200); /* the console: sear's rover.main.console.log, the board's USB serial */
   uart_begin(GPS_UART, 9600);
   pin_mode(SONAR_TRIG, OUTPUT);
   digital_write(SONAR_TRIG, LOW);
