@@ -98,7 +98,7 @@ void run_for_plots(const TempDir& dir, const fs::path& out) {
   }
   trace.flush();
   capture.finish(sim.time_ns());
-  sensors.flush();
+  sensors.finish();
   RunOutcome outcome;
   outcome.project_name = project->name;
   std::ofstream(out / "summary.json") << summary_json(sim, outcome);

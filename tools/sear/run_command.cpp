@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "exporters/can_logs.hpp"
+#include "exporters/flush_clock.hpp"
 #include "exporters/mcu_capture.hpp"
 #include "exporters/plot_runner.hpp"
 #include "exporters/sensor_csv.hpp"
@@ -24,6 +25,7 @@
 #include "runtime/process_keeper.hpp"
 #include "runtime/stop_request.hpp"
 #include "runtime/wall_pace.hpp"
+#include "runtime/while_waiting.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
 #include "sear/firmware_builder.hpp"
@@ -229,6 +231,19 @@ int run_command(const RunOptions& options) {
     const std::int64_t trace_every =
         std::max<std::int64_t>(1, std::llround(1e9 / project->run.trace_rate_hz / static_cast<double>(sim.step_ns())));
 
+    // The files reach the disk every FlushClock period of wall time, also while the run waits on a
+    // firmware or a controller, and at once when an MCU stops or a robot leaves the world.
+    const auto flush_files = [&] {
+      trace.flush();
+      capture.flush();
+      can_logs.flush();
+      sensors.flush();
+    };
+    FlushClock flush_clock;
+    const WhileWaiting flush_while_waiting([&] {
+      if (flush_clock.due()) flush_files();
+    });
+
     const bool show_progress = !options.quiet && isatty(STDERR_FILENO);
     const auto start = Clock::now();
     WallPace pace;  // --realtime's: sim time 0 is now
@@ -275,6 +290,7 @@ int run_command(const RunOptions& options) {
         if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
         fmt::print(stderr, "sear: {}\n", describe(e));
         if (e.stops_robot) lockstep.retire_robot(e.robot);
+        flush_files();
       }
       for (; stops_reported < lockstep.stops().size(); ++stops_reported) {
         const McuStop& stop = lockstep.stops()[stops_reported];
@@ -282,11 +298,13 @@ int run_command(const RunOptions& options) {
         fmt::print(stderr, "sear: {} (its output: {}/{}.host.log)\n", describe(stop), options.out_dir, stop.mcu);
         if (checker) checker->mcu_stopped(stop.mcu, stop.failure.time_ns, describe(stop));
         if (view_model) view_model->mcu_stopped(stop.mcu, describe(stop));
+        flush_files();
       }
       if (!go_on) break;
       // Every verdict known: nothing the run could still do changes the outcome.
       if (checker && checker->decided() && !options.go_on) break;
       if (++steps % trace_every == 0) trace.write_row(sim);
+      if (flush_clock.due()) flush_files();
       // Paced for host programs with timeouts of their own: never ahead of the wall clock.
       // A run that fell behind (paused over LCM, or slower than asked) goes on from where it is
       // rather than racing to catch up.
@@ -310,7 +328,8 @@ int run_command(const RunOptions& options) {
     if (lcm) lcm->finish();
     if (replay) replay->finish(sim);
     trace.flush();
-    sensors.flush();
+    sensors.finish();
+    can_logs.flush();
     capture.finish(sim.time_ns());
     const bool interrupted = stop_requested();
     if (checker) {
