@@ -193,7 +193,11 @@ int run_command(const RunOptions& options) {
       if (!options.quiet)
         fmt::print(stderr, "sear: {} on the host: {}{}\n", port.name, port.path,
                    port.link.empty() ? "" : " (link " + port.link + ")");
+    const char* no_plots = std::getenv("SEAR_NO_PLOTS");
+    const bool plots = options.plots && !(no_plots && *no_plots && std::string(no_plots) != "0");
+    PlotFolder plot_folder(options.out_dir);
   start_over:  // SEAR/CONTROL's reset: the run is built again from here, at t = 0, its files rewritten
+    plot_folder.claim(options.quiet);  // an earlier run's plotter may still read the files about to be rewritten
     Simulation sim(*project, project->run.seed);
     TraceCsv trace(options.out_dir, sim, max_file_bytes);
     std::vector<McuCapture::Mcu> mcus;
@@ -379,10 +383,9 @@ int run_command(const RunOptions& options) {
       for (const auto* f : outputs) listing += ", " + std::filesystem::path(f->path()).filename().string();
       print_to_stdout(text + listing + ")\n");
     }
-    // After everything is on disk, from those files: a plot that fails costs a warning, never the run.
-    const char* no_plots = std::getenv("SEAR_NO_PLOTS");
-    if (options.plots && !(no_plots && *no_plots && std::string(no_plots) != "0") && !interrupted)
-      write_plots(options.out_dir);
+    // After everything is on disk, from those files, in the background: a plot that fails costs a
+    // warning, never the run, and drawing them costs the run no time.
+    if (plots && !interrupted) plot_folder.draw_in_background();
     // `sear view` shows the end until Ctrl-C, or starts over when the page says so.
     if (view && view->end_run(sim, outcome.status, options.view_keep_serving) == ViewSession::Gate::Reset) {
       fmt::print(stderr, "sear: reset by the viewer: the run starts over at t = 0\n");
