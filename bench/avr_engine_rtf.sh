@@ -5,6 +5,7 @@
 # (summary.json's real_time_factor) and, for the AVR engine, the simulated MHz per host second
 # (RTF x the MCU's clock: the avoider's ATmega2560 runs at 16 MHz) and its CPU load as the engine
 # measured it (summary.json's avr_engines). Target (issue 20): at least 4x real time at 16 MHz.
+# The timing loop is bench/timed_runs.sh's.
 #
 # Usage: bench/avr_engine_rtf.sh [path/to/sear]   (default: build-release/tools/sear, else build/tools/sear)
 # Environment: RUNS (3), DURATION simulated seconds per run (20), ROOT the source tree.
@@ -12,35 +13,24 @@ set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 ROOT=${ROOT:-$(dirname "$here")}
-sear=${1:-}
-if [[ -z $sear ]]; then
-  for candidate in "$ROOT/build-release/tools/sear" "$ROOT/build/tools/sear"; do
-    [[ -x $candidate ]] && { sear=$candidate; break; }
-  done
-fi
-[[ -x ${sear:-} ]] || { echo "avr_engine_rtf.sh: no sear binary (give its path)" >&2; exit 2; }
+source "$here/timed_runs.sh"
+sear=$(bench_sear avr_engine_rtf.sh "${1:-}")
 RUNS=${RUNS:-3}
 DURATION=${DURATION:-20}
 work=$(mktemp -d /tmp/sear-avr-rtf.XXXXXX)
 trap 'rm -rf "$work"' EXIT
-
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+project=$ROOT/assets/projects/avoider_hills.xml
 
 printf '%-8s %10s %14s %10s %8s\n' engine rtf sim_MHz/s cpu_load load
 for engine in native avr; do
-  : >"$work/rtf"
-  load=$(cut -d' ' -f1 /proc/loadavg)
-  for run in $(seq "$RUNS"); do
-    out="$work/$engine-$run"
-    "$sear" run "$ROOT/assets/projects/avoider_hills.xml" --engine "$engine" --duration "$DURATION" --quiet \
-      --no-plots -o "$out" >/dev/null
-    python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["real_time_factor"])' "$out/summary.json" >>"$work/rtf"
-  done
-  rtf=$(median <"$work/rtf")
+  load=$(bench_load | cut -d' ' -f1)
+  bench_warm "$sear" "$work/$engine-warm" "$project" --engine "$engine" --no-plots
+  rtf=$(bench_runs "$sear" "$RUNS" "$DURATION" "$work/$engine" "$project" --engine "$engine" --no-plots |
+    bench_column 1 | bench_median)
   if [[ $engine == avr ]]; then
     mhz=$(awk -v r="$rtf" 'BEGIN {printf "%.1f", r * 16}')
     cpu=$(python3 -c 'import json, sys; print("%.3f" % json.load(open(sys.argv[1]))["avr_engines"]["rover.main"]["cpu_load"])' \
-      "$work/avr-1/summary.json")
+      "$work/avr.1/summary.json")
   else
     mhz=-
     cpu=-
