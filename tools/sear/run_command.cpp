@@ -166,6 +166,9 @@ int run_command(const RunOptions& options) {
 
   try {
     std::filesystem::create_directories(options.out_dir);
+    // Before any file of the folder is rewritten: an earlier run's plotter may still read them.
+    PlotFolder plot_folder(options.out_dir);
+    plot_folder.claim(options.quiet);
     write_world_json(options.out_dir + "/world.json", *project);
     std::unique_ptr<LcmBridge> lcm;
     if (options.lcm_url || !options.lcm_log.empty() || options.lcm_lockstep > 0)
@@ -195,9 +198,8 @@ int run_command(const RunOptions& options) {
                    port.link.empty() ? "" : " (link " + port.link + ")");
     const char* no_plots = std::getenv("SEAR_NO_PLOTS");
     const bool plots = options.plots && !(no_plots && *no_plots && std::string(no_plots) != "0");
-    PlotFolder plot_folder(options.out_dir);
   start_over:  // SEAR/CONTROL's reset: the run is built again from here, at t = 0, its files rewritten
-    plot_folder.claim(options.quiet);  // an earlier run's plotter may still read the files about to be rewritten
+    plot_folder.claim(options.quiet);  // after `sear view`'s reset, the plotter of the run before
     Simulation sim(*project, project->run.seed);
     TraceCsv trace(options.out_dir, sim, max_file_bytes);
     std::vector<McuCapture::Mcu> mcus;
