@@ -6,8 +6,9 @@
 # (RTF x the MCU's clock: the avoider's ATmega2560 runs at 16 MHz) and its CPU load as the engine
 # measured it (summary.json's avr_engines). Target (issue 20): at least 4x real time at 16 MHz.
 # The wall-clock figures follow the host's load (printed beside them); the host CPU seconds the run
-# took (sear and its MCU processes, user + system, median) do much less, and give for the AVR engine
+# took (sear and its MCU processes, user + system, mean per run) do much less, and give for the AVR engine
 # the simulated MHz per host CPU second.
+# The timing loop is bench/timed_runs.sh's.
 #
 # Usage: bench/avr_engine_rtf.sh [path/to/sear]   (default: build-release/tools/sear, else build/tools/sear)
 # Environment: RUNS (5), DURATION simulated seconds per run (20), ROOT the source tree.
@@ -15,45 +16,32 @@ set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 ROOT=${ROOT:-$(dirname "$here")}
-sear=${1:-}
-if [[ -z $sear ]]; then
-  for candidate in "$ROOT/build-release/tools/sear" "$ROOT/build/tools/sear"; do
-    [[ -x $candidate ]] && { sear=$candidate; break; }
-  done
-fi
-[[ -x ${sear:-} ]] || { echo "avr_engine_rtf.sh: no sear binary (give its path)" >&2; exit 2; }
+source "$here/timed_runs.sh"
+sear=$(bench_sear avr_engine_rtf.sh "${1:-}")
 RUNS=${RUNS:-5}
 DURATION=${DURATION:-20}
 work=$(mktemp -d /tmp/sear-avr-rtf.XXXXXX)
 trap 'rm -rf "$work"' EXIT
-
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+project=$ROOT/assets/projects/avoider_hills.xml
 
 printf '%-8s %10s %14s %8s %16s %10s %8s\n' engine rtf sim_MHz/s cpu_s sim_MHz/cpu_s cpu_load load
 for engine in native avr; do
-  : >"$work/rtf"
-  : >"$work/cpu"
-  load=$(cut -d' ' -f1 /proc/loadavg)
-  for run in $(seq "$RUNS"); do
-    out="$work/$engine-$run"
-    # bash's times: the CPU seconds of the children waited for so far (sear reaps its MCUs).
-    times >"$work/times"
-    before=$(tail -1 "$work/times")
-    "$sear" run "$ROOT/assets/projects/avoider_hills.xml" --engine "$engine" --duration "$DURATION" --quiet \
-      --no-plots -o "$out" >/dev/null
-    times >"$work/times"
-    after=$(tail -1 "$work/times")
-    awk -v b="$before" -v a="$after" 'function s(t) { sub("s$", "", t); split(t, p, "m"); return p[1] * 60 + p[2] }
-      BEGIN { split(b, x, " "); split(a, y, " "); printf "%.3f\n", s(y[1]) + s(y[2]) - s(x[1]) - s(x[2]) }' >>"$work/cpu"
-    python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["real_time_factor"])' "$out/summary.json" >>"$work/rtf"
-  done
-  rtf=$(median <"$work/rtf")
-  cpu_s=$(median <"$work/cpu")
+  load=$(bench_load | cut -d' ' -f1)
+  bench_warm "$sear" "$work/$engine-warm" "$project" --engine "$engine" --no-plots
+  # bash's times: the CPU seconds of the children waited for so far (sear reaps its MCUs).
+  times >"$work/times"
+  before=$(tail -1 "$work/times")
+  rtf=$(bench_runs "$sear" "$RUNS" "$DURATION" "$work/$engine" "$project" --engine "$engine" --no-plots |
+    bench_column 1 | bench_median)
+  times >"$work/times"
+  after=$(tail -1 "$work/times")
+  cpu_s=$(awk -v b="$before" -v a="$after" -v n="$RUNS" 'function s(t) { sub("s$", "", t); split(t, p, "m"); return p[1] * 60 + p[2] }
+    BEGIN { split(b, x, " "); split(a, y, " "); printf "%.3f\n", (s(y[1]) + s(y[2]) - s(x[1]) - s(x[2])) / n }')
   if [[ $engine == avr ]]; then
     mhz=$(awk -v r="$rtf" 'BEGIN {printf "%.1f", r * 16}')
     mhz_cpu=$(awk -v c="$cpu_s" -v d="$DURATION" 'BEGIN {printf "%.1f", (c > 0 ? 16 * d / c : 0)}')
     cpu=$(python3 -c 'import json, sys; print("%.3f" % json.load(open(sys.argv[1]))["avr_engines"]["rover.main"]["cpu_load"])' \
-      "$work/avr-1/summary.json")
+      "$work/avr.1/summary.json")
   else
     mhz=-
     mhz_cpu=-

@@ -3,9 +3,14 @@
 // each one a PNG of 1200 x 900 px (read from its header) that shows its data (decoded with stb,
 // the pixels of the colour the plotter draws that data in counted). The world.json and the
 // sensors CSV the plots are drawn from are checked against the project. With no interpreter the
-// plotting is one warning, and `sear run` still exits 0.
+// plotting is one warning, and `sear run` still exits 0. `sear run` draws in the background,
+// holding a lock on its output folder, which the next run into the folder waits for.
+#include <fcntl.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -98,7 +103,7 @@ void run_for_plots(const TempDir& dir, const fs::path& out) {
   }
   trace.flush();
   capture.finish(sim.time_ns());
-  sensors.flush();
+  sensors.finish();
   RunOutcome outcome;
   outcome.project_name = project->name;
   std::ofstream(out / "summary.json") << summary_json(sim, outcome);
@@ -142,8 +147,32 @@ std::size_t pixels_of(const Png& png, std::uint32_t colour) {
 
 std::size_t colours_in(const Png& png) { return std::set<std::uint32_t>(png.rgb.begin(), png.rgb.end()).size(); }
 
-// tools/plots/plot_run.py's colours for the path, collision marks, truth and reading.
-constexpr std::uint32_t kPath = 0xe6007e, kCollision = 0xff0000, kTruth = 0x1f77b4, kReading = 0xff7f0e;
+// tools/plots/plot_run.py's colours for the path, collision marks, truth, reading and no echo.
+constexpr std::uint32_t kPath = 0xe6007e, kCollision = 0xff0000, kTruth = 0x1f77b4, kReading = 0xff7f0e,
+                        kNoEcho = 0x7f7f7f;
+
+// Pixels of `colour` in image rows [top, bottom).
+std::size_t pixels_in_rows(const Png& png, std::uint32_t colour, int top, int bottom) {
+  std::size_t n = 0;
+  for (int y = std::max(top, 0); y < std::min(bottom, png.height); ++y)
+    for (int x = 0; x < png.width; ++x) n += png.rgb[static_cast<std::size_t>(y) * png.width + x] == colour;
+  return n;
+}
+
+// Waits for a background plotter of `out` to finish: it holds an flock on the folder until then.
+void wait_for_plotter(const fs::path& out) {
+  const int fd = open(out.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  ASSERT_GE(fd, 0) << out;
+  EXPECT_EQ(flock(fd, LOCK_EX), 0);
+  close(fd);
+}
+
+std::vector<std::string> plots_in(const fs::path& out) {
+  std::vector<std::string> found;
+  for (const auto& e : fs::directory_iterator(out))
+    if (e.path().filename().string().rfind("plot_", 0) == 0) found.push_back(e.path().filename().string());
+  return found;
+}
 
 class Plots : public ::testing::Test {
  protected:
@@ -352,12 +381,64 @@ TEST(PlotsOfSearRun, AMissingInterpreterLeavesTheRunsExitCodeAlone) {
 
   const auto plotted = run_sear(dir, rover_project("", "", 0.2));
   EXPECT_EQ(plotted.exit_code, 0) << plotted.err;
+  wait_for_plotter(plotted.dir);  // drawn in the background, after `sear run` exited
   EXPECT_TRUE(fs::exists(plotted.dir / "plot_trajectory_rover.png")) << plotted.err;
+  EXPECT_FALSE(fs::exists(plotted.dir / "plots.log"));  // nothing to say
   fs::remove_all(plotted.dir);
   const auto skipped = run_sear(dir, rover_project("", "", 0.2), "--no-plots");
   EXPECT_EQ(skipped.exit_code, 0) << skipped.err;
   EXPECT_FALSE(fs::exists(skipped.dir / "plot_trajectory_rover.png"));
   setenv("SEAR_NO_PLOTS", "1", 1);
+}
+
+// A run into a folder whose previous run's plotter still draws waits for it (it reads the files
+// the new run rewrites), then removes its plots: none of them is taken for the new run's. Were
+// the wait or the removal missing, the first run's plots would be in the folder at the end.
+TEST(PlotsOfSearRun, ANewRunWaitsForTheLastPlotterAndRemovesItsPlots) {
+  TempDir dir;
+  unsetenv("SEAR_NO_PLOTS");
+  const auto plotted = run_sear(dir, rover_project("", "", 0.2));
+  setenv("SEAR_NO_PLOTS", "1", 1);
+  EXPECT_EQ(plotted.exit_code, 0) << plotted.err;
+  const auto next = run_sear(dir, rover_project("", "", 0.2), "--quiet");
+  EXPECT_EQ(next.exit_code, 0) << next.err;
+  wait_for_plotter(next.dir);
+  EXPECT_EQ(plots_in(next.dir), std::vector<std::string>{});
+}
+
+// An HC-SR04 that hears nothing drops ECHO after its 38 ms time-out, which a firmware reads as
+// 6.55 m, beyond the part's 4 m: the plot shows those readings as "no echo" marks and a gap, not
+// as a line at 6.55 m. A synthetic run: 2 m for its first second, then no echo for a second.
+TEST(PlotRunner, AnEchoTimeOutIsDrawnAsNoEchoNotAsARange) {
+  TempDir dir;
+  dir.write("world.json", R"({"robots": [{"name": "r", "mcus": [{"name": "m", "avcc_v": 5, "devices": [
+      {"name": "sonar", "element": "hcsr04", "wires": {"trig": 24, "echo": 10}, "params": {}}]}]}]})");
+  dir.write("trace_r.csv", "time_s,x_m,y_m\n0,0,0\n2,0.5,0\n");
+  std::string csv = "time_s,mcu,device,quantity,unit,value,source\n";
+  for (int i = 0; i <= 100; ++i) {
+    const double t = 0.02 * i;
+    const bool echo = t < 1.0;
+    csv += fmt::format("{:.9f},m,sonar,distance,m,{},truth\n", t, echo ? "2.0" : "inf");
+    // 2 m: 2 x 58 us per cm x 200 cm = 11.6 ms; no echo: the 38 ms time-out, read as 6.5517 m.
+    csv += fmt::format("{:.9f},m,sonar,echo_width,s,{},reading\n", t, echo ? 0.0116 : 0.038);
+    csv += fmt::format("{:.9f},m,sonar,distance,m,{},reading\n", t, echo ? 2.0 : 0.038 / 58e-6 / 100);
+  }
+  dir.write("sensors_r.csv", csv);
+  ::testing::internal::CaptureStderr();
+  const bool plotted = write_plots(dir.path().string());
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  ASSERT_TRUE(plotted) << err << read_file(dir.path() / "plots.log");
+  const Png png = read_png(dir.path() / "plot_sensor_r.m.sonar.png");
+  ASSERT_EQ(png.height, kPlotHeight);
+  // The distance panel, the upper of two: plot_run.py's margins put it from 10 % of the height
+  // (top = 0.9) down to 46 % (two panels in 0.83 of the height, 0.3 of one between them).
+  const int top = kPlotHeight / 10, bottom = kPlotHeight * 46 / 100;
+  // The valid second is drawn (a 2 m line half the panel wide, ~500 px), the time-outs are marked...
+  EXPECT_GT(pixels_in_rows(png, kReading, top, bottom), 300u);
+  EXPECT_GT(pixels_in_rows(png, kNoEcho, top, bottom), 500u);  // 50 marks; ~10 grey pixels of antialiased text without
+  // ...and no reading is drawn in the panel's top fifth, where a 6.55 m line at the top of a
+  // range scaled to it would run (the 2 m line sits mid-panel on a range fitted to 2 m).
+  EXPECT_EQ(pixels_in_rows(png, kReading, top + 8, top + (bottom - top) / 5), 0u);
 }
 
 }  // namespace

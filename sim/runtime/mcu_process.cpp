@@ -22,6 +22,7 @@
 #include "lockstep_handoff.h"
 #include "runtime/process_keeper.hpp"
 #include "runtime/stop_request.hpp"
+#include "runtime/while_waiting.hpp"
 
 namespace sear {
 namespace {
@@ -309,6 +310,7 @@ McuProcess::Turn McuProcess::await_exit() {
       return Turn::Stopped;
     }
     if (stop_requested()) return Turn::Interrupted;
+    while_waiting();
     if (Clock::now() > deadline) {
       McuFailure f = failure_now(McuFailure::Kind::Hung);
       f.detail = fmt::format("it called exit() but was still running {:g} s of host time later; stopped", hang_timeout_s_);
@@ -366,6 +368,7 @@ McuProcess::Turn McuProcess::wait() {
       return Turn::Stopped;
     }
     if (stop_requested()) return Turn::Interrupted;
+    while_waiting();  // every kCheckNs while the firmware keeps its turn
     // Hung: its clock stood still for the whole timeout, because it made no HAL call (or only
     // calls that cost nothing, with hal_call_cycles="0"). The raw value only tells progress.
     const std::int64_t now_clock = __atomic_load_n(&link_->clock_ns, __ATOMIC_RELAXED);

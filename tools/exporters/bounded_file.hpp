@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -26,7 +27,9 @@ class BoundedFile {
   bool truncated() const { return dropped_ > 0; }
 
  private:
+  static constexpr std::size_t kBufferBytes = 64 * 1024;
   std::string path_;
+  std::unique_ptr<char[]> buffer_;  // outlives file_: declared before it, closed in the destructor
   std::FILE* file_ = nullptr;
   std::uint64_t limit_;
   std::string note_;

@@ -10,7 +10,7 @@ CanLogs::CanLogs(const std::string& out_dir, const std::vector<CanBusDesc>& buse
                                                  max_file_bytes));
 }
 
-void CanLogs::on_step(const Simulation& /*sim*/) {
+void CanLogs::flush() {
   for (auto& log : logs_) log->flush();
 }
 

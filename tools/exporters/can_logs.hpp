@@ -1,5 +1,5 @@
 // Every CAN bus of a run recorded as OUT/<bus>.candump.log (candump -l's format, sim time), as a
-// tap on the run: written as frames are decided and flushed each step.
+// tap on the run: written as frames are decided, flushed when the run flushes its files.
 #pragma once
 
 #include <memory>
@@ -16,7 +16,7 @@ class CanLogs final : public RunTap {
  public:
   CanLogs(const std::string& out_dir, const std::vector<CanBusDesc>& buses, std::uint64_t max_file_bytes);
   void on_can_frame(std::size_t bus, const CanTransfer& transfer) override { logs_[bus]->write(transfer); }
-  void on_step(const Simulation& /*sim*/) override;
+  void flush();
   std::vector<const BoundedFile*> outputs() const;
 
  private:

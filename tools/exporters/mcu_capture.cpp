@@ -212,11 +212,11 @@ std::vector<NeverSent> McuCapture::never_sent() const {
   return all;
 }
 
-// Every step's output reaches the files at once (a flush with nothing new costs no system call),
-// so that a simulator killed outright has lost nothing it had written, and the logs can be
-// followed while the run goes on.
 void McuCapture::advance_to(std::int64_t now_ns) {
   for (auto& s : states_) release(s, now_ns);
+}
+
+void McuCapture::flush() {
   for (auto* f : all_) f->flush();
 }
 

@@ -47,6 +47,8 @@ class McuCapture : public McuListener {
   void on_stop(std::size_t mcu, std::int64_t time_ns) override;
   // Writes every event stamped at or before now_ns.
   void advance_to(std::int64_t now_ns);
+  // Pushes what was written to the files (the run does it on a wall-clock period, FlushClock).
+  void flush();
   // The run ended at end_ns: writes what is due by then, drops the rest, ends any console line
   // still open and flushes every file, so that all of it is on disk.
   void finish(std::int64_t end_ns);

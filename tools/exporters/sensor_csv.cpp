@@ -55,7 +55,6 @@ void SensorCsv::on_sample(std::size_t mcu, std::size_t device, const sear_link_s
     fmt::format_to(std::back_inserter(rows), "{:.9f},{},{},{},{},{},truth\n", static_cast<double>(sample.time_ns) * 1e-9,
                    m.name, d.name, meaning.quantity[i], meaning.unit[i], sample.value[i]);
   m.file->write(rows);
-  dirty_ = true;
 }
 
 void SensorCsv::on_reading(std::size_t mcu, std::size_t device, std::int64_t time_ns, const double* values,
@@ -79,29 +78,25 @@ void SensorCsv::write_reading(Mcu& m, Device& d) {
   m.file->write(rows);
   d.reading_written_ns = d.held_ns;
   d.reading_held = false;
-  dirty_ = true;
 }
 
-// Flushed step by step, as the run's other files, so that a killed run keeps what it measured. A
-// reading held back goes out once a period has passed since the last one written: a model whose
+// A reading held back goes out once a period has passed since the last one written: a model whose
 // output then stays put still shows its latest value.
 void SensorCsv::on_step(const Simulation& sim) {
   for (Mcu& m : mcus_)
     for (Device& d : m.devices)
       if (d.reading_held && sim.time_ns() >= d.reading_written_ns + period_ns_) write_reading(m, d);
-  if (dirty_) flush_files();
 }
 
 void SensorCsv::flush() {
+  for (auto& f : files_) f->flush();
+}
+
+void SensorCsv::finish() {
   for (Mcu& m : mcus_)
     for (Device& d : m.devices)
       if (d.reading_held && m.file) write_reading(m, d);
-  flush_files();
-}
-
-void SensorCsv::flush_files() {
-  for (auto& f : files_) f->flush();
-  dirty_ = false;
+  flush();
 }
 
 std::vector<const BoundedFile*> SensorCsv::outputs() const {

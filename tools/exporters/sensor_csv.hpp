@@ -32,8 +32,10 @@ class SensorCsv final : public RunTap {
   void on_reading(std::size_t mcu, std::size_t device, std::int64_t time_ns, const double* values,
                   std::size_t count) override;
   void on_step(const Simulation& sim) override;
-  // Writes the readings still held back, and flushes; at the end of a run.
+  // Pushes the rows written to the files.
   void flush();
+  // Writes the readings still held back, and flushes; at the end of a run.
+  void finish();
   std::vector<const BoundedFile*> outputs() const;
 
  private:
@@ -52,11 +54,9 @@ class SensorCsv final : public RunTap {
     std::vector<Device> devices;
   };
   void write_reading(Mcu& m, Device& d);
-  void flush_files();
   std::vector<std::unique_ptr<BoundedFile>> files_;
   std::vector<Mcu> mcus_;
   std::int64_t period_ns_;
-  bool dirty_ = false;
 };
 
 }  // namespace sear

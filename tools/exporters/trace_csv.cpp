@@ -110,7 +110,6 @@ void TraceCsv::write_row(const Simulation& sim) {
     row.push_back('\n');
     files_[r]->write(std::string_view(row.data(), row.size()));
   }
-  flush();
 }
 
 std::vector<const BoundedFile*> TraceCsv::outputs() const {
@@ -120,8 +119,6 @@ std::vector<const BoundedFile*> TraceCsv::outputs() const {
 }
 
 void TraceCsv::flush() {
-  // Each row reaches the file before the next step, so a run that dies keeps all it traced; a
-  // full disk is an error, not a silently short trace.
   for (auto& f : files_) f->flush();
 }
 

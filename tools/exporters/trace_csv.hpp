@@ -1,5 +1,5 @@
 // The per-robot CSV trace of a run: pose, velocities, wheel speeds and actuator commands,
-// sampled at the trace rate, one file per robot, flushed row by row so a crash loses nothing.
+// sampled at the trace rate, one file per robot.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +31,7 @@ class TraceCsv {
   // past max_file_bytes.
   TraceCsv(const std::string& folder, const Simulation& sim, std::uint64_t max_file_bytes);
   void write_row(const Simulation& sim);
+  // Pushes the rows written to the files; a full disk is an error, not a silently short trace.
   void flush();
   // Its files, one per robot, for listing and for reporting those cut short.
   std::vector<const BoundedFile*> outputs() const;

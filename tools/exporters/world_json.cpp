@@ -169,7 +169,8 @@ std::string world_json(const ProjectDesc& project) {
   Json robots = Json::array();
   for (const RobotDesc& r : project.robots) {
     Json mcus = Json::array();
-    for (const McuDesc& m : r.mcus) mcus.push_back({{"name", m.name}, {"devices", devices_of(m)}});
+    for (const McuDesc& m : r.mcus)
+      mcus.push_back({{"name", m.name}, {"avcc_v", m.avcc_v}, {"aref_v", m.aref_v}, {"devices", devices_of(m)}});
     robots.push_back({{"name", r.name},
                       {"start_m", xy(r.start_xy_m.x(), r.start_xy_m.y())},
                       {"start_yaw_rad", r.start_yaw_rad},

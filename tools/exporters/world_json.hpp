@@ -1,6 +1,6 @@
 // The world of a run as plain data for tools that draw it (tools/plots/plot_run.py): terrain kind,
 // size and a height grid of at most 256 x 256, obstacles with their shapes at their start poses,
-// the GPS origin, and each robot's start and wired devices.
+// the GPS origin, and each robot's start and its MCUs' wired devices and ADC reference voltages.
 #pragma once
 
 #include <string>

@@ -17,6 +17,7 @@
 #include "runtime/can_bus.hpp"
 #include "runtime/simulation.hpp"
 #include "runtime/stop_request.hpp"
+#include "runtime/while_waiting.hpp"
 #include "scene/device_kind.hpp"
 #include "sear/lcm/sear_can_t.h"
 #include "sear/lcm/sear_control_t.h"
@@ -492,6 +493,7 @@ LcmBridge::Gate LcmBridge::before_step() {
     if (s.reset) return Gate::Reset;
     if (stop_requested()) return Gate::Stop;
     if (!s.paused) break;
+    while_waiting();
     s.handle(100);  // short, so that Ctrl-C is seen within a tenth of a second
   }
   if (s.options.lockstep_every <= 0 || k % s.options.lockstep_every != 0) return Gate::Step;
@@ -515,6 +517,7 @@ LcmBridge::Gate LcmBridge::before_step() {
     if (!waiting) return Gate::Step;
     if (s.reset) return Gate::Reset;
     if (stop_requested()) return Gate::Stop;
+    while_waiting();
     const double left_s = std::chrono::duration<double>(deadline - Clock::now()).count();
     if (left_s <= 0) {
       failure_ = fmt::format("no DRIVE for robot '{}' answering step {} within {:g} s: the controller is gone",

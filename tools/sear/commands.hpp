@@ -34,6 +34,7 @@ struct RunOptions {
   std::optional<double> timeout_s;     // sim seconds after which pending expectations fail
   bool go_on = false;                  // run to the end even once every expectation is decided
   bool plots = true;                   // draw OUT/plot_*.png once the run is over (also off with SEAR_NO_PLOTS=1)
+  bool wait_plots = false;             // exit only once the plots are drawn (else they are drawn in the background)
   // The browser viewer (`sear run --view`, `sear view`) and the run's replay file.
   bool view = false;                    // serve the viewer while the run goes on
   std::string view_bind = "127.0.0.1";  // its address (--bind)

@@ -94,6 +94,8 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--go-on", run.go_on, "Run to the end even once every expectation is decided");
   run_cmd->add_flag("!--no-plots", run.plots,
                     "Do not draw the plots (OUT/plot_*.png) after the run; SEAR_NO_PLOTS=1 in the environment does the same");
+  run_cmd->add_flag("--wait-plots", run.wait_plots,
+                    "Exit only once the plots are drawn (by default they are drawn in the background after the run)");
   run_cmd->add_option("--pty", run.ptys,
                       "Give a UART device (robot.mcu.device, e.g. rover.main.gps) to host programs as a pseudo-terminal "
                       "instead of its MCU port; its path is printed and linked as OUT/robot.mcu.device.pty")

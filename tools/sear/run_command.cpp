@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "exporters/can_logs.hpp"
+#include "exporters/flush_clock.hpp"
 #include "exporters/mcu_capture.hpp"
 #include "exporters/pin_labels.hpp"
 #include "exporters/plot_runner.hpp"
@@ -26,6 +27,7 @@
 #include "runtime/process_keeper.hpp"
 #include "runtime/stop_request.hpp"
 #include "runtime/wall_pace.hpp"
+#include "runtime/while_waiting.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
 #include "sear/firmware_builder.hpp"
@@ -189,8 +191,12 @@ int run_command(const RunOptions& options) {
   }
 
   try {
+    // An earlier run's plotter may still read the files of the folder: it finishes before they go.
+    PlotFolder plot_folder(out_dir);
+    if (std::filesystem::exists(std::filesystem::path(out_dir) / kRunFolderMark)) plot_folder.claim(options.quiet);
     prepare_run_folder(out_dir);
     if (default_folder) point_latest_at(out_dir);
+    plot_folder.claim(options.quiet);
     write_world_json(out_dir + "/world.json", *project);
     std::unique_ptr<LcmBridge> lcm;
     if (options.lcm_url || !options.lcm_log.empty() || options.lcm_lockstep > 0)
@@ -219,7 +225,10 @@ int run_command(const RunOptions& options) {
       if (!options.quiet)
         fmt::print(stderr, "sear: {} on the host: {}{}\n", port.name, port.path,
                    port.link.empty() ? "" : " (link " + port.link + ")");
+    const char* no_plots = std::getenv("SEAR_NO_PLOTS");
+    const bool plots = options.plots && !(no_plots && *no_plots && std::string(no_plots) != "0");
   start_over:  // SEAR/CONTROL's reset: the run is built again from here, at t = 0, its files rewritten
+    plot_folder.claim(options.quiet);  // after `sear view`'s reset, the plotter of the run before
     Simulation sim(*project, project->run.seed);
     TraceCsv trace(out_dir, sim, max_file_bytes);
     std::vector<McuCapture::Mcu> mcus;
@@ -257,6 +266,19 @@ int run_command(const RunOptions& options) {
     const std::int64_t end_ns = std::llround(project->run.duration_s * 1e9);
     const std::int64_t trace_every =
         std::max<std::int64_t>(1, std::llround(1e9 / project->run.trace_rate_hz / static_cast<double>(sim.step_ns())));
+
+    // The files reach the disk every FlushClock period of wall time, also while the run waits on a
+    // firmware or a controller, and at once when an MCU stops or a robot leaves the world.
+    const auto flush_files = [&] {
+      trace.flush();
+      capture.flush();
+      can_logs.flush();
+      sensors.flush();
+    };
+    FlushClock flush_clock;
+    const WhileWaiting flush_while_waiting([&] {
+      if (flush_clock.due()) flush_files();
+    });
 
     const bool show_progress = !options.quiet && isatty(STDERR_FILENO);
     const auto start = Clock::now();
@@ -305,6 +327,7 @@ int run_command(const RunOptions& options) {
         if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
         fmt::print(stderr, "sear: {}\n", describe(e));
         if (e.stops_robot) lockstep.retire_robot(e.robot);
+        flush_files();
       }
       for (; stops_reported < lockstep.stops().size(); ++stops_reported) {
         const McuStop& stop = lockstep.stops()[stops_reported];
@@ -312,6 +335,7 @@ int run_command(const RunOptions& options) {
         fmt::print(stderr, "sear: {} (its output: {}/{}.host.log)\n", describe(stop), out_dir, stop.mcu);
         if (checker) checker->mcu_stopped(stop.mcu, stop.failure.time_ns, describe(stop));
         if (view_model) view_model->mcu_stopped(stop.mcu, describe(stop));
+        flush_files();
       }
       // printf() reaches the host log only: said once, the first time, where the user looks.
       for (std::size_t i = 0; i < lockstep.mcu_count(); ++i) {
@@ -323,7 +347,7 @@ int run_command(const RunOptions& options) {
         fmt::print(stderr,
                    "sear: mcu {} wrote to its standard output (printf, puts) by sim time {:.3f} s: that goes to "
                    "{}/{}.host.log only; {} shows text on this console\n",
-                   mcu.id(), static_cast<double>(*mcu.usage().stdout_ns) * 1e-9, options.out_dir, mcu.id(),
+                   mcu.id(), static_cast<double>(*mcu.usage().stdout_ns) * 1e-9, out_dir, mcu.id(),
                    console >= 0 ? fmt::format("uart_print({}, ...) on its console UART", console)
                                 : std::string("uart_print() on the UART its console_uart names"));
       }
@@ -331,6 +355,7 @@ int run_command(const RunOptions& options) {
       // Every verdict known: nothing the run could still do changes the outcome.
       if (checker && checker->decided() && !options.go_on) break;
       if (++steps % trace_every == 0) trace.write_row(sim);
+      if (flush_clock.due()) flush_files();
       // Paced for host programs with timeouts of their own: never ahead of the wall clock.
       // A run that fell behind (paused over LCM, or slower than asked) goes on from where it is
       // rather than racing to catch up.
@@ -354,7 +379,8 @@ int run_command(const RunOptions& options) {
     if (lcm) lcm->finish();
     if (replay) replay->finish(sim);
     trace.flush();
-    sensors.flush();
+    sensors.finish();
+    can_logs.flush();
     capture.finish(sim.time_ns());
     const bool interrupted = stop_requested();
     if (checker) {
@@ -410,11 +436,17 @@ int run_command(const RunOptions& options) {
     write_file(out_dir + "/summary.txt", text);
     write_file(out_dir + "/summary.json", summary_json(sim, outcome));
     if (!options.quiet) print_to_stdout(text);
-    // After everything is on disk, from those files: a plot that fails costs a warning, never the run.
-    const char* no_plots = std::getenv("SEAR_NO_PLOTS");
-    if (options.plots && !(no_plots && *no_plots && std::string(no_plots) != "0") && !interrupted)
-      write_plots(out_dir);
-    if (!options.quiet) print_to_stdout(output_line(out_dir, outputs) + "\n");
+    // After everything is on disk, from those files, in the background: a plot that fails costs a
+    // warning, never the run, and drawing them costs the run no time, unless asked to wait.
+    const bool drawing = plots && !interrupted && plot_folder.draw_in_background();
+    if (drawing && options.wait_plots) PlotFolder::wait_for_plotter(out_dir);
+    if (!options.quiet)
+      print_to_stdout(output_line(out_dir, outputs) +
+                      (drawing && !options.wait_plots
+                           ? fmt::format("\n  plots: drawn in the background into {}/ (`flock {} true` waits for them)",
+                                         out_dir, out_dir)
+                           : "") +
+                      "\n");
     // `sear view` shows the end until Ctrl-C, or starts over when the page says so.
     if (view && view->end_run(sim, outcome.status, options.view_keep_serving) == ViewSession::Gate::Reset) {
       fmt::print(stderr, "sear: reset by the viewer: the run starts over at t = 0\n");

@@ -9,6 +9,7 @@
 
 #include "runtime/simulation.hpp"
 #include "runtime/stop_request.hpp"
+#include "runtime/while_waiting.hpp"
 #include "scene/description.hpp"
 #include "view/hello_message.hpp"
 
@@ -145,6 +146,7 @@ ViewSession::Gate ViewSession::before_step(Simulation& sim) {
         holding_ = true;
         if (server_->has_clients()) send_state(sim);
       }
+      while_waiting();
       std::this_thread::sleep_for(kHoldPoll);
       continue;
     }
@@ -158,6 +160,7 @@ ViewSession::Gate ViewSession::before_step(Simulation& sim) {
     const double ahead_s = pace_.ahead_s(sim.time_s(), speed_);
     if (ahead_s <= 0) break;
     if (server_->connections() != connections_seen_ && server_->has_clients()) send_state(sim);
+    while_waiting();
     std::this_thread::sleep_for(std::chrono::duration<double>(std::min(ahead_s, seconds(kHoldPoll))));
   }
   if (steps_left_ > 0 && --steps_left_ == 0) paused_ = true;  // this is the last step asked for
