@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 
 #include "firmware_run.hpp"
@@ -169,6 +170,22 @@ TEST(ToneSketch, SquareWavesAtTimer2sFrequencyForTheirDuration) {
   ASSERT_EQ(notes[2].size(), 6u);
   for (std::size_t k = 1; k < notes[2].size(); ++k)
     EXPECT_EQ(notes[2][k].time - notes[2][k - 1].time, half_period_ns(30));
+
+  // Timer2's set-up disconnects OC2B: the PWM on pin 9 (duty 128) ends when the first tone starts;
+  // after noTone() the timer is free and analogWrite(10, 64) runs.
+  const std::string values = run.file("rover.main.values.vcd");
+  const auto duty = [&](const std::string& name) {
+    std::smatch m;
+    std::vector<std::string> seen;
+    if (!std::regex_search(values, m, std::regex("\\$var reg 8 (\\S+) " + name + " \\$end"))) return seen;
+    for (const auto& line : lines_of(values))
+      if (line.size() > 2 && line[0] == 'b' && line.substr(line.find(' ') + 1) == m[1].str())
+        seen.push_back(line.substr(1, line.find(' ') - 1));
+    return seen;
+  };
+  // "z" is $dumpvars: no PWM yet.
+  EXPECT_EQ(duty("D9_pwm"), (std::vector<std::string>{"z", "10000000", "0"})) << values.substr(0, 3000);
+  EXPECT_EQ(duty("D10_pwm"), (std::vector<std::string>{"z", "1000000"}));
 
   // The core has one tone pin: tone(11, 2000) while pin 8 plays does nothing, not even pinMode.
   const auto pin11 = vcd_changes(vcd, vcd_id_of_pin(11));
