@@ -107,6 +107,25 @@ TEST(SketchWithoutProject, RunsOnTheDefaultArduinoRobot) {
   }
 }
 
+// SoftwareSerial is not modelled yet: a sketch using it builds, and begin() stops the MCU with the
+// call, its pins and the hardware ports to use instead; what it printed before still went out.
+TEST(SoftwareSerialSketch, BeginStopsTheMcuNamingTheCallAndTheWayRound) {
+  TempDir dir;
+  const auto sketch = dir.path() / "soft_gps";
+  std::filesystem::create_directories(sketch);
+  std::ofstream(sketch / "soft_gps.ino") << "#include <SoftwareSerial.h>\nSoftwareSerial gps(10, 11);\n"
+                                            "void setup() { Serial.begin(9600); Serial.println(\"before\"); "
+                                            "gps.begin(9600); }\nvoid loop() {}\n";
+  const SearRun run = run_sear(dir, rover_project("    <mcu name=\"main\">\n      <firmware sketch=\"" +
+                                                  sketch.string() + "/\"/>\n    </mcu>\n",
+                                                  "", 0.1));
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.out.find("SoftwareSerial(10, 11).begin(9600): the soft UART is not modelled yet"), std::string::npos)
+      << run.out << run.err;
+  EXPECT_NE(run.out.find("Serial1, Serial2 or Serial3"), std::string::npos);
+  EXPECT_NE(run.file("rover.main.console.log").find("before"), std::string::npos);
+}
+
 // Splits one pin's VCD changes into bursts: a gap longer than `gap_ns` starts a new one.
 std::vector<std::vector<VcdChange>> bursts(const std::vector<VcdChange>& changes, std::int64_t gap_ns) {
   std::vector<std::vector<VcdChange>> out;
