@@ -73,6 +73,7 @@ TEST(ArduinoTemplate, WritesASketchProjectWhoseExpectationsPass) {
   EXPECT_TRUE(std::filesystem::is_regular_file(project / "robot.xml"));
   EXPECT_FALSE(std::filesystem::exists(project / "CMakeLists.txt"));  // the C template's build
   EXPECT_FALSE(std::filesystem::exists(project / "sketch.ino"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(project / ".gitignore"));
   const int code = run_command(dir, "run " + project.string() + " -o " + (dir.path() / "out").string());
   EXPECT_EQ(code, 0) << read_file(dir.path() / "stdout") << read_file(dir.path() / "stderr");
   const std::string summary = read_file(dir.path() / "out" / "summary.json");

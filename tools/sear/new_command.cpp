@@ -27,7 +27,8 @@ constexpr const char* kCommonFiles = "common";
 constexpr const char* kRobotFile = "robot.xml";
 
 // A sketch template's sketch, written as <name>/<name>.ino as the Arduino IDE requires. Such a
-// template brings its own README and no CMake build (the common files build C firmware).
+// template brings its own README and .gitignore and no CMake build (the common files build C
+// firmware).
 constexpr const char* kSketchFile = "sketch.ino";
 
 struct NewError {
