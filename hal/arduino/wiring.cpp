@@ -7,18 +7,28 @@
 
 #include "refuse.hpp"
 #include "servo_timer.hpp"
+#include "tone_timer.hpp"
 
 namespace {
 bool pwm_running[NUM_DIGITAL_PINS]; /* analogWrite() left a PWM waveform on the pin */
 }
 
+namespace {
+// TCCRnA = 0 disconnects the compare outputs: the pin keeps the level of its PORT latch, LOW
+// after analogWrite()'s pinMode.
+void stop_pwm(uint8_t pin) {
+  if (pwm_running[pin]) digital_write(pin, LOW);
+  pwm_running[pin] = false;
+}
+}  // namespace
+
 void sear_servo_take_timer5() {
-  for (uint8_t pin = 44; pin <= 46; ++pin) {
-    // TCCR5A = 0 disconnects the compare outputs: the pin keeps the level of its PORT latch, LOW
-    // after analogWrite()'s pinMode.
-    if (pwm_running[pin]) digital_write(pin, LOW);
-    pwm_running[pin] = false;
-  }
+  for (uint8_t pin = 44; pin <= 46; ++pin) stop_pwm(pin);
+}
+
+void sear_tone_take_timer2() {
+  stop_pwm(9);
+  stop_pwm(10);
 }
 
 extern "C" {
@@ -54,6 +64,10 @@ void analogWrite(uint8_t pin, int val) {
   if (sear_servo_timer5_taken() && pin >= 44 && pin <= 46)
     sear_arduino_refuse("analogWrite() on pin 44, 45 or 46",
                         "the first Servo took Timer5, as on the Mega, and these pins' PWM stopped with it");
+  // On the chip it would rewrite OCR2A, the tone's own compare value, and change its pitch.
+  if (sear_tone_timer2_taken() && (pin == 9 || pin == 10))
+    sear_arduino_refuse("analogWrite() on pin 9 or 10 while tone() plays",
+                        "tone() holds Timer2, as on the Mega; call noTone() first");
   if (val <= 0 || val >= 255 || !digitalPinHasPWM(pin)) {
     digitalWrite(pin, val < 128 ? LOW : HIGH);
     return;
@@ -121,14 +135,3 @@ void yield(void) {}
 
 unsigned long pulseIn(uint8_t pin, uint8_t state) { return pulseIn(pin, state, 1000000UL); }
 unsigned long pulseInLong(uint8_t pin, uint8_t state) { return pulseInLong(pin, state, 1000000UL); }
-
-// tone() drives a square wave from Timer2's interrupt on the chip; SEAR has no audio device to
-// hear it and no waveform event for it yet, so a sketch that uses it is told so.
-void tone(uint8_t pin, unsigned int frequency, unsigned long duration) {
-  (void)pin;
-  (void)frequency;
-  (void)duration;
-  sear_arduino_refuse("tone()", "square waves on a pin are not modelled yet");
-}
-
-void noTone(uint8_t pin) { digitalWrite(pin, LOW); }

@@ -3,9 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
 #include <string>
 
 #include "firmware_run.hpp"
+#include "model_run.hpp"
 
 using namespace sear::test;
 
@@ -49,6 +53,178 @@ TEST(RefusedSketch, AnalogWriteOnTimer5AfterAServoStopsTheMcuWithTheCallNamed) {
   EXPECT_NE(run.out.find("analogWrite() on pin 44, 45 or 46: the first Servo took Timer5"), std::string::npos)
       << run.out;
   EXPECT_EQ(run.out.find("not reached"), std::string::npos);
+}
+
+// `sear` with `args`, output in dir/stdout and dir/stderr.
+int run_command(const TempDir& dir, const std::string& args) {
+  const std::string cmd = std::string(SEAR_BINARY) + " " + args + " >" + (dir.path() / "stdout").string() + " 2>" +
+                          (dir.path() / "stderr").string();
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// `sear new --arduino` writes DIR/DIR.ino and a project that runs as it stands: its expectations
+// (the sonar's first reading 1.30 m from the wall, turning away before touching it) pass.
+TEST(ArduinoTemplate, WritesASketchProjectWhoseExpectationsPass) {
+  TempDir dir;
+  const auto project = dir.path() / "Roamer";
+  ASSERT_EQ(run_command(dir, "new " + project.string() + " --arduino"), 0) << read_file(dir.path() / "stderr");
+  EXPECT_TRUE(std::filesystem::is_regular_file(project / "Roamer.ino"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(project / "robot.xml"));
+  EXPECT_FALSE(std::filesystem::exists(project / "CMakeLists.txt"));  // the C template's build
+  EXPECT_FALSE(std::filesystem::exists(project / "sketch.ino"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(project / ".gitignore"));
+  const int code = run_command(dir, "run " + project.string() + " -o " + (dir.path() / "out").string());
+  EXPECT_EQ(code, 0) << read_file(dir.path() / "stdout") << read_file(dir.path() / "stderr");
+  const std::string summary = read_file(dir.path() / "out" / "summary.json");
+  EXPECT_NE(summary.find("\"passed\""), std::string::npos) << summary;
+}
+
+// A sketch folder with no project.xml runs on the default Arduino robot: its HC-SR04 (TRIG 24,
+// ECHO 2, 0.15 m ahead) sees the wall whose face is 1.45 m ahead of the rover's centre, 130 cm
+// (7540 us at 58 us/cm) within the model's 3 mm noise and the truncation to whole cm.
+TEST(SketchWithoutProject, RunsOnTheDefaultArduinoRobot) {
+  TempDir dir;
+  const auto sketch = dir.path() / "Ranger";
+  std::filesystem::create_directories(sketch);
+  std::ofstream(sketch / "Ranger.ino") << "void setup() { Serial.begin(9600); pinMode(24, OUTPUT); }\n"
+                                          "void loop() {\n  digitalWrite(24, HIGH); delayMicroseconds(10); "
+                                          "digitalWrite(24, LOW);\n  Serial.println(pulseIn(2, HIGH) / 58);\n"
+                                          "  delay(60);\n}\n";
+  for (const std::string& argument : {sketch.string() + "/", (sketch / "Ranger.ino").string()}) {
+    SCOPED_TRACE(argument);
+    const auto out = dir.path() / "out";
+    std::filesystem::remove_all(out);
+    ASSERT_EQ(run_command(dir, "run " + argument + " -d 0.5 -o " + out.string()), 0)
+        << read_file(dir.path() / "stdout") << read_file(dir.path() / "stderr");
+    int readings = 0;
+    for (const auto& line : lines_of(read_file(out / "rover.main.console.log"))) {
+      long cm = 0;
+      if (std::sscanf(line.c_str(), "%*s %ld", &cm) != 1) continue;
+      ++readings;
+      EXPECT_NEAR(static_cast<double>(cm), 129.5, 1.0) << line;
+    }
+    EXPECT_GE(readings, 5);  // one per ~68 ms over 0.5 s
+  }
+}
+
+// SoftwareSerial is not modelled yet: a sketch using it builds, and begin() stops the MCU with the
+// call, its pins and the hardware ports to use instead; what it printed before still went out.
+TEST(SoftwareSerialSketch, BeginStopsTheMcuNamingTheCallAndTheWayRound) {
+  TempDir dir;
+  const auto sketch = dir.path() / "soft_gps";
+  std::filesystem::create_directories(sketch);
+  std::ofstream(sketch / "soft_gps.ino") << "#include <SoftwareSerial.h>\nSoftwareSerial gps(10, 11);\n"
+                                            "void setup() { Serial.begin(9600); Serial.println(\"before\"); "
+                                            "gps.begin(9600); }\nvoid loop() {}\n";
+  const SearRun run = run_sear(dir, rover_project("    <mcu name=\"main\">\n      <firmware sketch=\"" +
+                                                  sketch.string() + "/\"/>\n    </mcu>\n",
+                                                  "", 0.1));
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.out.find("SoftwareSerial(10, 11).begin(9600): the soft UART is not modelled yet"), std::string::npos)
+      << run.out << run.err;
+  EXPECT_NE(run.out.find("Serial1, Serial2 or Serial3"), std::string::npos);
+  EXPECT_NE(run.file("rover.main.console.log").find("before"), std::string::npos);
+}
+
+// Splits one pin's VCD changes into bursts: a gap longer than `gap_ns` starts a new one.
+std::vector<std::vector<VcdChange>> bursts(const std::vector<VcdChange>& changes, std::int64_t gap_ns) {
+  std::vector<std::vector<VcdChange>> out;
+  for (const auto& c : changes) {
+    if (out.empty() || c.time - out.back().back().time > gap_ns) out.emplace_back();
+    out.back().push_back(c);
+  }
+  return out;
+}
+
+// Timer2 in CTC mode toggles the pin at each compare match (ATmega2560 datasheet 20.7.2):
+// f = f_clk / (2 * N * (1 + OCR2A)), N the prescaler the core picks (Tone.cpp: the smallest of
+// 1, 8, 32, 64, 128, 256, 1024 whose OCR2A fits 8 bits). Each half-period here is a whole number
+// of microseconds, so the edges fall on the exact nanosecond.
+std::int64_t half_period_ns(unsigned frequency) {
+  const unsigned prescalers[] = {1, 8, 32, 64, 128, 256, 1024};
+  unsigned long ocr = 0, n = 1;
+  for (unsigned p : prescalers) {
+    n = p;
+    ocr = 16000000UL / frequency / 2 / p - 1;
+    if (ocr <= 255) break;
+  }
+  return static_cast<std::int64_t>(((ocr & 0xFF) + 1) * n) * 1000 / 16;  // 62.5 ns a cycle
+}
+
+TEST(ToneSketch, SquareWavesAtTimer2sFrequencyForTheirDuration) {
+  TempDir dir;
+  const SearRun run = run_sear(dir, rover_project("    <mcu name=\"main\">\n      <firmware sketch=\"" +
+                                                  std::string(TONE_SKETCH) + "\"/>\n    </mcu>\n",
+                                                  "", 0.6));
+  ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
+  EXPECT_NE(run.file("rover.main.console.log").find("done"), std::string::npos);
+  const std::string vcd = run.file("rover.main.pins.vcd");
+  auto changes = vcd_changes(vcd, vcd_id_of_pin(8));
+  ASSERT_GE(changes.size(), 2u) << vcd.substr(0, 2000);
+  EXPECT_EQ(changes[0].value, 'z');  // an input until tone()'s pinMode
+  EXPECT_EQ(changes[1].value, '0');
+  changes.erase(changes.begin(), changes.begin() + 2);
+  const auto notes = bursts(changes, 10000000);  // the sketch waits 50 ms or more between notes
+  ASSERT_EQ(notes.size(), 3u) << vcd;
+
+  // tone(8, 440, 100): prescaler 128, OCR2A 141, 1136 us a half-period (440.14 Hz); the core
+  // counts 2 * 440 * 100 / 1000 = 88 toggles, so the pin ends LOW after 99.968 ms.
+  EXPECT_EQ(half_period_ns(440), 1136000);
+  ASSERT_EQ(notes[0].size(), 88u);
+  for (std::size_t k = 1; k < notes[0].size(); ++k) {
+    EXPECT_EQ(notes[0][k].time - notes[0][k - 1].time, half_period_ns(440)) << "edge " << k;
+    EXPECT_EQ(notes[0][k].value, k % 2 == 0 ? '1' : '0');
+  }
+  // tone(8, 1000) until noTone() 20 ms later: prescaler 32, OCR2A 249, 500 us; 40 half-periods
+  // fit in the 20 ms, the last one at the moment noTone() comes or just before it.
+  EXPECT_EQ(half_period_ns(1000), 500000);
+  EXPECT_GE(notes[1].size(), 39u);
+  EXPECT_LE(notes[1].size(), 41u);
+  for (std::size_t k = 1; k < notes[1].size(); ++k)
+    EXPECT_EQ(notes[1][k].time - notes[1][k - 1].time, half_period_ns(1000)) << "edge " << k;
+  EXPECT_EQ(notes[1].back().value, '0');  // noTone() leaves the pin LOW
+  // tone(8, 30, 100): /1024 gives OCR2A 259, which the 8-bit register keeps as 3: 256 us
+  // half-periods (1953 Hz), as the chip plays it; 2 * 30 * 100 / 1000 = 6 toggles.
+  EXPECT_EQ(half_period_ns(30), 256000);
+  ASSERT_EQ(notes[2].size(), 6u);
+  for (std::size_t k = 1; k < notes[2].size(); ++k)
+    EXPECT_EQ(notes[2][k].time - notes[2][k - 1].time, half_period_ns(30));
+
+  // Timer2's set-up disconnects OC2B: the PWM on pin 9 (duty 128) ends when the first tone starts;
+  // after noTone() the timer is free and analogWrite(10, 64) runs.
+  const std::string values = run.file("rover.main.values.vcd");
+  const auto duty = [&](const std::string& name) {
+    std::smatch m;
+    std::vector<std::string> seen;
+    if (!std::regex_search(values, m, std::regex("\\$var reg 8 (\\S+) " + name + " \\$end"))) return seen;
+    for (const auto& line : lines_of(values))
+      if (line.size() > 2 && line[0] == 'b' && line.substr(line.find(' ') + 1) == m[1].str())
+        seen.push_back(line.substr(1, line.find(' ') - 1));
+    return seen;
+  };
+  // "z" is $dumpvars: no PWM yet.
+  EXPECT_EQ(duty("D9_pwm"), (std::vector<std::string>{"z", "10000000", "0"})) << values.substr(0, 3000);
+  EXPECT_EQ(duty("D10_pwm"), (std::vector<std::string>{"z", "1000000"}));
+
+  // The core has one tone pin: tone(11, 2000) while pin 8 plays does nothing, not even pinMode.
+  const auto pin11 = vcd_changes(vcd, vcd_id_of_pin(11));
+  ASSERT_EQ(pin11.size(), 1u);
+  EXPECT_EQ(pin11[0].value, 'z');
+}
+
+// analogWrite on Timer2's pins while a tone holds the timer would change its pitch on the chip:
+// the MCU stops with the call named.
+TEST(ToneSketch, AnalogWriteOnTimer2WhileATonePlaysStopsTheMcuWithTheCallNamed) {
+  TempDir dir;
+  const auto sketch = dir.path() / "tone_pwm";
+  std::filesystem::create_directories(sketch);
+  std::ofstream(sketch / "tone_pwm.ino") << "void setup() { tone(8, 440); analogWrite(10, 50); }\nvoid loop() {}\n";
+  const SearRun run = run_sear(dir, rover_project("    <mcu name=\"main\">\n      <firmware sketch=\"" +
+                                                  sketch.string() + "/\"/>\n    </mcu>\n",
+                                                  "", 0.1));
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.out.find("analogWrite() on pin 9 or 10 while tone() plays"), std::string::npos) << run.out;
 }
 
 }  // namespace

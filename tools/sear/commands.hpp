@@ -53,6 +53,10 @@ inline constexpr int kExpectationFailedExitCode = 5;
 // A project argument as the user typed it -> the project file to load.
 std::string resolve_project_path(const std::string& argument);
 
+// A sketch folder without project.xml (or a .ino): the default Arduino robot's project for it,
+// written under the firmware cache; nullopt for anything else (sketch_project.cpp).
+std::optional<std::string> sketch_default_project(const std::string& argument);
+
 int run_command(const RunOptions& options);
 // `sear run --cross-check`: the run on the native engine, then on the AVR engine (OUT/native,
 // OUT/avr), and OUT/cross_check.json naming each difference and its likely cause; exit code 5

@@ -231,9 +231,12 @@ int main(int argc, char** argv) {
   CLI::App* new_cmd = app.add_subcommand("new", "Write a new project (firmware, project file with expectations, CMake "
                                                 "build for the simulator and the ATmega2560) into a new or empty folder");
   new_cmd->add_option("dir", new_project.dir, "The folder to write; it must not exist or be empty")->required();
-  new_cmd->add_option("-t,--template", new_project.template_name, "What the firmware does")
-      ->capture_default_str()
-      ->check(CLI::IsMember(sear::project_templates()));
+  CLI::Option* new_template = new_cmd->add_option("-t,--template", new_project.template_name, "What the firmware does")
+                                   ->capture_default_str()
+                                   ->check(CLI::IsMember(sear::project_templates()));
+  new_cmd->add_flag_callback("--arduino", [&] { new_project.template_name = "arduino"; },
+                             "An Arduino sketch (DIR/DIR.ino) on the default Arduino robot: --template arduino")
+      ->excludes(new_template);
   new_cmd->add_option("-n,--name", new_project.name, "The project's name (default: the folder's)");
 
   CLI11_PARSE(app, argc, argv);

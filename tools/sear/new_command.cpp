@@ -27,6 +27,11 @@ constexpr const char* kCommonFiles = "common";
 // moves or goes into a repository of its own.
 constexpr const char* kRobotFile = "robot.xml";
 
+// A sketch template's sketch, written as <name>/<name>.ino as the Arduino IDE requires. Such a
+// template brings its own README and .gitignore and no CMake build (the common files build C
+// firmware).
+constexpr const char* kSketchFile = "sketch.ino";
+
 struct NewError {
   std::string message;
 };
@@ -67,12 +72,14 @@ std::vector<fs::path> template_files(const fs::path& from) {
 
 // The project's name: given, or the folder's own. It names the project, the CMake project and
 // target (so the .elf and .hex) and is printed by the firmware, so it keeps to what all accept.
+std::string folder_name(const fs::path& dir) {
+  const fs::path absolute = fs::absolute(dir).lexically_normal();
+  return (absolute.has_filename() ? absolute : absolute.parent_path()).filename().string();
+}
+
 std::string project_name(const NewOptions& options, const fs::path& dir) {
   std::string name = options.name;
-  if (name.empty()) {
-    const fs::path absolute = fs::absolute(dir).lexically_normal();
-    name = (absolute.has_filename() ? absolute : absolute.parent_path()).filename().string();
-  }
+  if (name.empty()) name = folder_name(dir);
   if (!std::regex_match(name, std::regex("[A-Za-z][A-Za-z0-9_-]{0,63}")))
     throw NewError{fmt::format("'{}' cannot name a project: it must start with a letter and hold only letters, "
                                "digits, _ and - (at most 64){}",
@@ -125,11 +132,15 @@ int new_command(const NewOptions& options) {
     };
     fs::create_directories(dir);
     std::vector<std::string> written;
-    for (const fs::path& from : {templates / kCommonFiles, chosen}) {
+    const bool sketch = fs::exists(chosen / kSketchFile);
+    std::vector<fs::path> sources = {chosen};
+    if (!sketch) sources.insert(sources.begin(), templates / kCommonFiles);
+    for (const fs::path& from : sources) {
       for (const fs::path& file : template_files(from)) {
-        fs::create_directories((dir / file).parent_path());
-        write_file(dir / file, substitute(read_file(from / file), values, from / file));
-        written.push_back(file.string());
+        const fs::path to = file == kSketchFile ? fs::path(folder_name(dir) + ".ino") : file;
+        fs::create_directories((dir / to).parent_path());
+        write_file(dir / to, substitute(read_file(from / file), values, from / file));
+        written.push_back(to.string());
       }
     }
     write_file(dir / kRobotFile, read_file(SEAR_NEW_ROBOT_FILE));
@@ -140,6 +151,10 @@ int new_command(const NewOptions& options) {
     fmt::print("sear new: wrote {} ({}, template {}): {}\n", shown, name, options.template_name,
                fmt::join(written, ", "));
     fmt::print("  run it:        sear run {}\n", shown);
+    if (sketch) {
+      fmt::print("  for the board: open {}/{}.ino in the Arduino IDE (Arduino Mega 2560)\n", shown, folder_name(dir));
+      return 0;
+    }
     fmt::print("  build it:      cmake -S {0} -B {0}/build && cmake --build {0}/build\n", shown);
     fmt::print("  for the chip:  cmake -S {0} -B {0}/build-avr -DCMAKE_TOOLCHAIN_FILE={1}/cmake/avr-gcc.cmake && "
                "cmake --build {0}/build-avr\n",
