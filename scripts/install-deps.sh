@@ -7,6 +7,7 @@ packages=(
   libode-dev libassimp-dev libeigen3-dev libtinyxml2-dev libstb-dev
   zlib1g-dev                 # assimp's CMake targets link libz.so, which libassimp-dev does not pull in
   libcli11-dev libfmt-dev nlohmann-json3-dev
+  libexpat1-dev              # explains in plain words what tinyxml2 refused in a project file (sim/scene/xml_syntax.cpp)
   libgtest-dev libbenchmark-dev
   libembree-dev              # ray casting against the static world (sensors)
   gpsd gpsd-clients          # the NMEA tests check the GPS talker against gpsd
@@ -23,6 +24,7 @@ packages=(
   python3-matplotlib         # draws every run's plots (tools/plots/plot_run.py); without it a run only warns
   chromium chromium-driver python3-selenium python3-pil libjs-three libcivetweb-dev  # the browser viewer: civetweb serves it, three.js draws it, headless chromium tests it
   python3-websocket          # the viewer's tests and bench/view_bench.sh talk to `sear view` as a page would
+  jq bc                      # bench/timed_runs.sh reads each run's summary.json and adds wall times
   slurm-wlm munge            # scripts/slurm-local.sh: a one-node Slurm runs the `sear test --shard` array job in the tests
   liburdfdom-dev liburdfdom-tools  # URDF robots: urdfdom parses them; the tests hold it against check_urdf
 )
