@@ -249,8 +249,9 @@ Json robot_of(const RobotDesc& r) {
       // (a reading of the same quantity as the truth has its unit, reading_meaning.hpp).
       if (d.kind) {
         Json units = Json::object();
-        for (const ReadingMeaning* m : {&reading_meaning(d.kind->element), &output_meaning(d.kind->element)})
-          for (std::size_t i = 0; i < m->quantity.size() && i < m->unit.size(); ++i) units[m->quantity[i]] = m->unit[i];
+        for (const ReadingMeaning* meaning : {&reading_meaning(d.kind->element), &output_meaning(d.kind->element)})
+          for (std::size_t i = 0; i < meaning->quantity.size() && i < meaning->unit.size(); ++i)
+            units[meaning->quantity[i]] = meaning->unit[i];
         device["units"] = std::move(units);
       }
       devices.push_back(std::move(device));
