@@ -68,13 +68,20 @@ TEST(RunFolder, OutputLineListsThePlotsThisRunDrew) {
   // two plots into the folder it is given, as the real one does.
   dir.write("plotter.sh", "touch \"$1/plot_b.png\" \"$1/plot_a.png\" \"$1/plot.log.txt\"\n");
   const std::string env = "SEAR_NO_PLOTS=0 SEAR_PYTHON=/bin/sh SEAR_PLOT_SCRIPT=" + (dir.path() / "plotter.sh").string();
-  const Shell run = sear_in(dir.path(), "run p.xml", env);
+  // --wait-plots: the run exits once they are drawn, and its summary's last line lists them in
+  // name order after the files the run wrote.
+  const Shell run = sear_in(dir.path(), "run p.xml --wait-plots", env);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const std::string line = output_line(run.out);
-  // The last line of the summary, the plots in name order after the files the run wrote.
   EXPECT_EQ(run.out.substr(run.out.size() - line.size() - 1), line + "\n");
   EXPECT_NE(line.find("(summary.txt, summary.json, trace_rover.csv, plot_a.png, plot_b.png)"), std::string::npos) << line;
   EXPECT_EQ(line.find("plot_c.txt"), std::string::npos) << line;
+  // By default they are drawn in the background, and the last line says where and how to wait.
+  const Shell background = sear_in(dir.path(), "run p.xml", env);
+  ASSERT_EQ(background.exit_code, 0) << background.err;
+  const std::string said = "  plots: drawn in the background into sear-out/plotted/ (`flock sear-out/plotted true` waits for them)\n";
+  ASSERT_GE(background.out.size(), said.size());
+  EXPECT_EQ(background.out.substr(background.out.size() - said.size()), said);
 }
 
 TEST(RunFolder, OutIntoAnEarlierRunsFolderEmptiesItAndIntoAnyOtherFolderIsRefused) {
