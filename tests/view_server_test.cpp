@@ -260,6 +260,17 @@ TEST(ViewServer, OnEveryInterfaceTheOriginMustBeTheHostsOwn) {
   ::close(own);
 }
 
+// A page beyond the eight is told why in a close frame: 1013, try again later, and the cap.
+void expect_refused_with_1013(int fd) {
+  int opcode = 0;
+  std::string payload;
+  ASSERT_TRUE(read_ws_frame(fd, opcode, payload));
+  EXPECT_EQ(opcode, MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE);
+  ASSERT_GE(payload.size(), 2u);
+  EXPECT_EQ((static_cast<unsigned char>(payload[0]) << 8) | static_cast<unsigned char>(payload[1]), 1013);
+  EXPECT_NE(payload.find("at most 8 pages"), std::string::npos) << payload;
+}
+
 // Each page keeps a worker thread: a ninth is told why in a close frame (1013, try again later)
 // and the page's files are still served meanwhile.
 TEST(ViewServer, TheNinthPageIsRefusedWithAClearClose) {
@@ -270,13 +281,7 @@ TEST(ViewServer, TheNinthPageIsRefusedWithAClearClose) {
   for (int i = 0; i < 8; ++i) pages.push_back(std::make_unique<WsClient>(server.port()));
   ASSERT_TRUE(eventually([&] { return server.clients() == 8; }));
   const int ninth = raw_websocket(server.port());
-  int opcode = 0;
-  std::string payload;
-  ASSERT_TRUE(read_ws_frame(ninth, opcode, payload));
-  EXPECT_EQ(opcode, MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE);
-  ASSERT_GE(payload.size(), 2u);
-  EXPECT_EQ((static_cast<unsigned char>(payload[0]) << 8) | static_cast<unsigned char>(payload[1]), 1013);
-  EXPECT_NE(payload.find("at most 8 pages"), std::string::npos) << payload;
+  expect_refused_with_1013(ninth);
   EXPECT_EQ(server.clients(), 8);
   EXPECT_EQ(status_of(raw_request(server.port(), "/")), 200);
   ::close(ninth);
@@ -312,12 +317,7 @@ TEST(ViewServer, HeldConnectionsLeaveRoomForANewPage) {
   EXPECT_EQ(std::string(head), "HTTP/1.1 20");
   ::close(page);
   const int ninth = raw_websocket(server.port());
-  int opcode = 0;
-  std::string payload;
-  ASSERT_TRUE(read_ws_frame(ninth, opcode, payload));
-  EXPECT_EQ(opcode, MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE);
-  ASSERT_GE(payload.size(), 2u);
-  EXPECT_EQ((static_cast<unsigned char>(payload[0]) << 8) | static_cast<unsigned char>(payload[1]), 1013);
+  expect_refused_with_1013(ninth);
   ::close(ninth);
   for (int fd : held) ::close(fd);
 }
