@@ -154,6 +154,15 @@ def canvas_shot(driver):
     return image.crop((int(rect[0] * s), int(rect[1] * s), int(rect[2] * s), int(rect[3] * s)))
 
 
+def path_pixels(image):
+    """Pixels of the robots' path colour (0xff8c1a, unlit): strong red, middling green, little blue;
+    above the bottom 40 px, where the legend shows that colour too."""
+    w, h = image.size
+    data = image.load()
+    return sum(1 for y in range(h - 40) for x in range(w)
+               if data[x, y][0] > 200 and 110 < data[x, y][1] < 170 and data[x, y][2] < 80)
+
+
 def robot_pixels(image):
     """Pixels of the first robot's colour (0xff2a00, unlit in the page): strong red, little green or
     blue. Nothing else in the scene is near it (terrain greens and browns, grey walls, yellow cones,
@@ -226,6 +235,10 @@ def live_case(sear, work, env, robots, profile):
         if c1 and c2:
             moved = ((c1[0] - c2[0]) ** 2 + (c1[1] - c2[1]) ** 2) ** 0.5
             check(moved > 5, "2. robot's pixels moved %.1f px in 1 s" % moved)
+        # Its path (0xff8c1a) is drawn behind it: over ~0.5 m at ~80 px/m, some 40 px of a line a
+        # pixel or two wide. No other colour of the scene has that red with that much green.
+        trail = path_pixels(canvas_shot(driver))
+        check(trail >= 20, "2. the robot's path is drawn behind it (%d px)" % trail)
 
         # 3. Keys drive the robot with no MCU: one press of U (no auto-repeat from Selenium) sets
         # 0.25 duty (kDutyPerPress, tools/view/view_session.cpp), which stays after the release.

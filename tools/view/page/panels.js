@@ -65,6 +65,19 @@ var SEAR = window.SEAR || (window.SEAR = {});
     this.console = part("console", el("div", "log console"));
     this.wire = part("UART / CAN", el("div", "log wire"));
     this.readings = part("readings and truth", el("table", "readings"));
+    // A row clicked in the table is drawn over time here: the reading against its truth.
+    this.plot = el("canvas", "plot");
+    this.plot.width = 300;
+    this.plot.height = 80;
+    this.plot.hidden = true;
+    this.readings.parentNode.appendChild(this.plot);
+    this.plotted = null;  // {device, quantity, points: [[t, reading, truth]]}
+    this.readings.addEventListener("click", function (ev) {
+      var row = ev.target.closest("tr");
+      if (!row || !row.dataset.device) return;
+      self.plotted = { device: row.dataset.device, quantity: row.dataset.quantity, points: [] };
+      self.plot.hidden = false;
+    });
     this.latest = null;
     this.dropped = 0;
     this.lastSeq = -1;
@@ -74,6 +87,7 @@ var SEAR = window.SEAR || (window.SEAR = {});
     this.console.textContent = "";
     this.wire.textContent = "";
     this.dropped = 0;
+    if (this.plotted) this.plotted.points = [];  // a reset starts the run, and its plot, over
   };
 
   Panel.prototype.addEntry = function (e) {
@@ -98,8 +112,16 @@ var SEAR = window.SEAR || (window.SEAR = {});
     appendBounded(this.wire, line);
   };
 
-  Panel.prototype.takeFrame = function (m) {
+  var PLOT_POINTS = 300;  // one a frame: 15 s of wall time at 20 frames a second
+
+  Panel.prototype.takeFrame = function (m, t) {
     this.latest = m;
+    var p = this.plotted;
+    if (p) {
+      var r = ((m.readings || {})[p.device] || {})[p.quantity], tr = ((m.truth || {})[p.device] || {})[p.quantity];
+      p.points.push([t, typeof r === "number" ? r : null, typeof tr === "number" ? tr : null]);
+      if (p.points.length > PLOT_POINTS) p.points.shift();
+    }
     this.dropped += m.dropped || 0;
     var self = this;
     (m.log || []).forEach(function (e) { self.addEntry(e); });
@@ -139,6 +161,9 @@ var SEAR = window.SEAR || (window.SEAR = {});
       Object.keys(truth[d] || {}).forEach(function (q) { if (qs.indexOf(q) < 0) qs.push(q); });
       qs.forEach(function (q) {
         var row = el("tr");
+        row.dataset.device = d;
+        row.dataset.quantity = q;
+        row.title = "click: draw it over time";
         var u = shown((units[d] || {})[q]);
         row.appendChild(el("td", null, d));
         row.appendChild(el("td", null, q.replace(/_/g, " ") + (u.unit ? " (" + u.unit + ")" : "")));
@@ -148,6 +173,41 @@ var SEAR = window.SEAR || (window.SEAR = {});
         row.appendChild(el("td", "num", value(t)));
         table.appendChild(row);
       });
+    });
+  };
+
+  // The chosen reading (orange) and its truth (white) over the last frames, scaled to fit.
+  Panel.prototype.drawPlot = function () {
+    var p = this.plotted;
+    if (!p || this.plot.hidden) return;
+    var u = shown((this.units[p.device] || {})[p.quantity]);
+    var c = this.plot.getContext("2d"), w = this.plot.width, h = this.plot.height;
+    c.fillStyle = "#111";
+    c.fillRect(0, 0, w, h);
+    var lo = Infinity, hi = -Infinity;
+    p.points.forEach(function (q) {
+      [q[1], q[2]].forEach(function (v) { if (v !== null) { lo = Math.min(lo, v); hi = Math.max(hi, v); } });
+    });
+    c.fillStyle = "#ccc";
+    c.font = "10px sans-serif";
+    c.fillText(p.device + " " + p.quantity.replace(/_/g, " ") + (u.unit ? " (" + u.unit + ")" : "") +
+               ": reading (orange), truth (white)", 4, 11);
+    if (!(hi >= lo)) return;
+    if (hi === lo) { hi += 1; lo -= 1; }
+    c.fillText(fmt(hi * u.scale), 4, 22);
+    c.fillText(fmt(lo * u.scale), 4, h - 3);
+    [[1, "#ff8c1a"], [2, "#ffffff"]].forEach(function (line) {
+      c.strokeStyle = line[1];
+      c.beginPath();
+      var drawing = false;
+      p.points.forEach(function (q, i) {
+        var v = q[line[0]];
+        if (v === null) { drawing = false; return; }
+        var x = w * i / PLOT_POINTS, y = h - 4 - (h - 18) * (v - lo) / (hi - lo);
+        if (drawing) c.lineTo(x, y); else c.moveTo(x, y);
+        drawing = true;
+      });
+      c.stroke();
     });
   };
 
@@ -174,7 +234,7 @@ var SEAR = window.SEAR || (window.SEAR = {});
     var self = this;
     (frame.mcus || []).forEach(function (m) {
       var p = self.panels[m.id];
-      if (p) p.takeFrame(m);
+      if (p) p.takeFrame(m, frame.t);
     });
   };
 
@@ -185,7 +245,7 @@ var SEAR = window.SEAR || (window.SEAR = {});
 
   SEAR.Panels.prototype.render = function () {
     var self = this;
-    Object.keys(this.panels).forEach(function (id) { self.panels[id].render(); });
+    Object.keys(this.panels).forEach(function (id) { self.panels[id].render(); self.panels[id].drawPlot(); });
   };
 
   SEAR.Panels.MAX_LINES = MAX_LINES;

@@ -1,11 +1,12 @@
 // What the sensors see, drawn from frames: IR and sonar cones with their hit points, LIDAR points
-// from a fan's ranges, and the GPS fixes against the true track.
+// from a fan's ranges, the GPS fixes against the true track, and each robot's path.
 "use strict";
 var SEAR = window.SEAR || (window.SEAR = {});
 
 (function () {
   var CONE_COLOUR = 0xffee55, HIT_COLOUR = 0xff00ff, LIDAR_COLOUR = 0x00e5ff;
-  var FIX_COLOUR = 0x0040ff, TRUTH_COLOUR = 0xffffff;
+  var FIX_COLOUR = 0x0040ff, TRUTH_COLOUR = 0xffffff, PATH_COLOUR = 0xff8c1a;
+  var PATH_STEP_M = 0.02;  // a point of a robot's path each 2 cm it moves: smooth at any zoom the page has
   var TRACK_POINTS = 20000;  // per line: a long run's track stays drawable
 
   function track(colour) {
@@ -68,6 +69,10 @@ var SEAR = window.SEAR || (window.SEAR = {});
         }
         list[s.name] = v;
       });
+      // The robot's own path, under the name no sensor can have (names are XML attributes).
+      var path = { kind: "path", line: track(PATH_COLOUR) };
+      root.add(path.line);
+      list[" path"] = path;
       byRobot[r.name] = list;
     });
     return byRobot;
@@ -94,6 +99,12 @@ var SEAR = window.SEAR || (window.SEAR = {});
     (frame.robots || []).forEach(function (fr) {
       var list = sensors[fr.name], robot = robots[fr.name];
       if (!list || !robot) return;
+      var path = list[" path"];
+      if (tracks && path && fr.pos) {
+        var attr = path.line.geometry.getAttribute("position"), n = path.line.count;
+        if (!n || Math.hypot(fr.pos[0] - attr.getX(n - 1), fr.pos[1] - attr.getY(n - 1)) >= PATH_STEP_M)
+          pushPoint(path.line, [fr.pos[0], fr.pos[1], fr.pos[2] - 0.01]);
+      }
       (fr.sensors || []).forEach(function (f) {
         var v = list[f.name];
         if (!v) return;
@@ -132,8 +143,8 @@ var SEAR = window.SEAR || (window.SEAR = {});
     Object.keys(sensors).forEach(function (robot) {
       Object.keys(sensors[robot]).forEach(function (name) {
         var v = sensors[robot][name];
-        if (v.kind !== "gps") return;
-        [v.fixes, v.truth].forEach(function (line) { line.count = 0; line.geometry.setDrawRange(0, 0); });
+        if (v.kind !== "gps" && v.kind !== "path") return;
+        (v.kind === "path" ? [v.line] : [v.fixes, v.truth]).forEach(function (line) { line.count = 0; line.geometry.setDrawRange(0, 0); });
       });
     });
   };
