@@ -3,8 +3,9 @@
 Selenium) loads it, and we check what a user would see: no console errors, a scene that is drawn and
 moves, keys that drive a robot in the simulation, pause that holds sim time, and a replay that opens.
 
-Usage: viewer_test.py SEAR_BINARY. Exit 77 (skipped) when chromium, chromedriver or Selenium are
-missing, unless CI is set: there a missing tool fails, named."""
+Usage: viewer_test.py SEAR_BINARY [IR_PROBE]; the hills and live-plot case runs only with the probe.
+Exit 77 (skipped) when chromium, chromedriver or Selenium are missing, unless CI is set: there a
+missing tool fails, named."""
 
 import csv
 import os
@@ -317,11 +318,92 @@ def replay_case(sear, work, env, robots, profile):
         viewer.stop()
 
 
+HILLS_PROJECT = """<project name="viewer_hills">
+  <run duration="30" seed="1" trace_rate="50"/>
+  <world step="0.001">
+    <terrain type="heightmap" image="{assets}/heightmaps/hills.png" size="40 40" min_height="0"
+             max_height="1.2"/>
+  </world>
+  <robot file="{assets}/robots/rover.xml" name="probe">
+    <pose x="0" y="0"/>
+    <mcu name="main"><firmware executable="{ir_probe}"/><gp2d12 name="ir" adc="0" pos="0.15 0 0.02"/></mcu>
+  </robot>
+</project>
+"""
+
+# The lows' green and the tops' near-white of the page's height colours (heightColour in
+# tools/view/page/world.js: 0.20 0.45 0.18 at the bottom, 0.90 0.90 0.88 at the top), as lit.
+def terrain_shades(image):
+    w, h = image.size
+    data = image.load()
+    green = light = 0
+    for y in range(0, h - 40, 2):  # above the legend; every other pixel is plenty
+        for x in range(0, w, 2):
+            r, g, b = data[x, y]
+            if g > r + 25 and g > b + 25:
+                green += 1
+            elif r > 150 and g > 150 and b > 110 and b <= r:
+                light += 1  # pale browns to near-white; the sky's light blue has more blue than red
+    return green, light
+
+
+def plot_pixels(driver):
+    """Pixels of the readings plot drawn by its lines: right of the value labels and below the
+    title, anything brighter than its #111 background."""
+    return driver.execute_script(
+        "var c = document.querySelector('canvas.plot');"
+        "if (!c || c.hidden) return -1;"
+        "var d = c.getContext('2d').getImageData(60, 14, c.width - 60, c.height - 14).data, n = 0;"
+        "for (var i = 0; i < d.length; i += 4) if (d[i] + d[i + 1] + d[i + 2] > 3 * 60) n++;"
+        "return n;")
+
+
+def hills_case(sear, work, env, assets, ir_probe, profile):
+    """Check 6: hills show on the terrain (coloured by height), and a clicked readings row is drawn
+    as a live plot that grows frame by frame."""
+    folder = os.path.join(work, "hills")
+    os.makedirs(folder)
+    project = os.path.join(folder, "project.xml")
+    with open(project, "w") as f:
+        f.write(HILLS_PROJECT.format(assets=assets, ir_probe=ir_probe))
+    viewer = Viewer([sear, "view", project, "--port", "0", "-o", os.path.join(work, "hills-out")], env)
+    driver = browser(profile)
+    try:
+        driver.get(viewer.url + "?camera=top")
+        wait_for("first frame", lambda: int(dataset(driver, "frames") or 0) >= 1, 30)
+        shot = canvas_shot(driver)
+        green, light = terrain_shades(shot)
+        # The top camera frames the whole 40 m heightmap. hills.png's valleys cover about a tenth of
+        # the view and its hill tops (the upper third of the height range) some 2 % (counted at every
+        # other pixel: ~115 000 samples). 1 % and 0.5 % are well below what is drawn, and a terrain
+        # of one colour, flat or unlit, has none of one or the other.
+        samples = shot.size[0] * shot.size[1] // 4
+        check(green > 0.01 * samples and light > 0.005 * samples,
+              "6. hills show: %d green lows and %d light tops of %d samples" % (green, light, samples))
+        from selenium.webdriver.common.action_chains import ActionChains
+        ActionChains(driver).send_keys(" ").perform()
+        row = wait_for("a readings row", lambda: driver.find_elements("css selector", "table.readings tr[data-device]"), 20)
+        if not check(bool(row), "6. the probe's readings are listed"):
+            return
+        row[0].click()
+        first = wait_for("plot", lambda: plot_pixels(driver) > 0 and plot_pixels(driver), 10)
+        time.sleep(1.0)
+        later = plot_pixels(driver)
+        # One point a frame, one pixel apart (PLOT_POINTS 300 on a 300 px canvas): a second at the
+        # page's 20 frames a second lengthens each line by ~20 px; 5 is above the redraw's jitter.
+        check(first > 0 and later > first + 5,
+              "6. the clicked row is plotted live (%s then %d px of line)" % (first, later))
+    finally:
+        driver.quit()
+        viewer.stop()
+
+
 def main():
-    if len(sys.argv) != 2:
+    if len(sys.argv) not in (2, 3):
         print(__doc__)
         return 2
     sear = os.path.abspath(sys.argv[1])
+    ir_probe = os.path.abspath(sys.argv[2]) if len(sys.argv) == 3 else None
     missing = missing_tools()
     if missing:
         if os.environ.get("CI", "").lower() in ("1", "true", "yes"):
@@ -336,6 +418,9 @@ def main():
     try:
         live_case(sear, work, env, os.path.abspath(robots), os.path.join(work, "profile-live"))
         replay_case(sear, work, env, os.path.abspath(robots), os.path.join(work, "profile-replay"))
+        if ir_probe:
+            hills_case(sear, work, env, os.path.abspath(os.path.join(robots, "..")), ir_probe,
+                       os.path.join(work, "profile-hills"))
     except Exception as e:  # a case that could not even run is a failure, with its reason
         check(False, "%s: %s" % (type(e).__name__, e))
     finally:

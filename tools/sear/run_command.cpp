@@ -196,7 +196,6 @@ int run_command(const RunOptions& options) {
     if (std::filesystem::exists(std::filesystem::path(out_dir) / kRunFolderMark)) plot_folder.claim(options.quiet);
     prepare_run_folder(out_dir);
     if (default_folder) point_latest_at(out_dir);
-    plot_folder.claim(options.quiet);
     write_world_json(out_dir + "/world.json", *project);
     std::unique_ptr<LcmBridge> lcm;
     if (options.lcm_url || !options.lcm_log.empty() || options.lcm_lockstep > 0)
