@@ -71,6 +71,13 @@ void engine_emit(enum sear_event_kind kind, uint8_t index, uint32_t value, int64
 
 void engine_fatal(const char *format, ...) {
   struct sear_link *link = engine.link;
+  /* A chip that fails within a turn has run to its failure: the events it made on the way carry
+   * their cycles' times, so the clock goes there with them, as a native firmware's moves with each
+   * call (never past the quantum's end, which the simulator holds it to). */
+  if (engine.avr && engine.quantum_end_ns > link->clock_ns) {
+    const int64_t now = engine_now_ns();
+    if (now > link->clock_ns) link->clock_ns = now < engine.quantum_end_ns ? now : engine.quantum_end_ns;
+  }
   va_list args;
   va_start(args, format);
   sear_end_set_fatal(link, format, args);
@@ -87,8 +94,23 @@ static void logger(avr_t *avr, const int level, const char *format, va_list ap) 
   va_list copy;
   va_copy(copy, ap);
   if (level <= LOG_ERROR) {
-    vsnprintf(last_error, sizeof last_error, format, copy);
-    last_error[strcspn(last_error, "\n")] = 0;
+    /* simavr says why (an invalid opcode, a data address past RAM), then "avr_sadly_crashed":
+     * the first is the report's; its colour codes and "CORE: *** " are not. */
+    char said[sizeof last_error], plain[sizeof last_error];
+    vsnprintf(said, sizeof said, format, copy);
+    size_t n = 0;
+    for (const char *c = said; *c && *c != '\n'; ++c) {
+      if (*c == '\033') { /* a colour: ESC [ ... m */
+        c += strcspn(c, "m");
+        if (!*c) break;
+        continue;
+      }
+      plain[n++] = *c;
+    }
+    plain[n] = 0;
+    const char *text = strncmp(plain, "CORE: *** ", 10) == 0 ? plain + 10 : plain;
+    if (*text && !(strcmp(text, "avr_sadly_crashed") == 0 && last_error[0]))
+      snprintf(last_error, sizeof last_error, "%s", text);
   }
   va_end(copy);
   vfprintf(stderr, format, ap);
@@ -206,10 +228,12 @@ static void run_to(uint64_t cycle) {
     const int state = step(avr);
     avr_profile_count(pc, avr->cycle - before);
     /* Past the image is erased flash, which the chip would run through to a reset. */
+    /* The chip's program counter wraps within its flash; simavr's does not (a backward jump from
+     * the start reads as 0xffffffxx), so the report gives the address the chip would be at. */
     if (avr->pc >= engine.code_end)
       engine_fatal("the ATmega2560 jumped into nowhere: pc 0x%05x is past the program's end at 0x%05x (from pc 0x%05x, "
                    "cycle %" PRIu64 ")",
-                   (unsigned)avr->pc, engine.code_end, pc, (uint64_t)avr->cycle);
+                   (unsigned)(avr->pc & avr->flashend), engine.code_end, pc, (uint64_t)avr->cycle);
     if (state != cpu_Running && state != cpu_Sleeping) check_state(state);
     if (resets != resets_seen) check_resets();
     /* The stack grows down towards .data and .bss: past their end it overwrites globals. */

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <regex>
 #include <string>
 #include <vector>
@@ -213,6 +215,45 @@ TEST(AvrEngine, TheEchoADeviceDrivesIsInBothEnginesWaveforms) {
   }
 }
 
+// A quadrature encoder on pin-change pins: the motor turns on timer3's PWM, every edge of either
+// channel raises PCINT0, and the ISR's answer on pin 22 follows each edge by the datasheet's
+// instruction times plus what simavr 1.6 does differently.
+TEST(AvrEngine, PinChangeInterruptAnswersEachEncoderEdgeWithinItsCycles) {
+  const std::string wiring =
+      "      <motor name=\"left\" pwm=\"3\" dir=\"12\"/>\n"
+      "      <quadrature_encoder name=\"enc\" wheel=\"left\" a=\"10\" b=\"11\" cycles_per_rev=\"90\"/>\n";
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("pcint_encoder.c"), wiring), "", 0.3));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::vector<std::int64_t> encoder;
+  for (const int pin : {10, 11})
+    for (const auto t : edges(run, pin))
+      if (t > 0) encoder.push_back(t);  // t = 0: the levels the encoder starts at, not edges
+  std::sort(encoder.begin(), encoder.end());
+  std::vector<std::int64_t> answers = edges(run, 22);
+  answers.erase(answers.begin());  // the pin going out LOW (DDRA)
+  // The motor at 200/255 duty of its 6 V turns the free wheel at up to 125 rpm, 2.1 turns a
+  // second of 360 edges (90 cycles, both edges of both channels); a quarter turn in 0.3 s is far
+  // below that even counting the spin-up, and far above a wheel that never moved.
+  ASSERT_GE(encoder.size(), 90u);
+  ASSERT_EQ(answers.size(), encoder.size());
+  for (std::size_t k = 0; k < encoder.size(); ++k) {
+    // The edge is applied at the first instruction boundary at or after its time (the idle loop's
+    // RJMP: 2 cycles, so up to 1 cycle late, plus under a cycle of rounding to the clock); one more
+    // RJMP runs before simavr takes the interrupt, in 0 cycles (the chip takes 5 with a 3-byte PC);
+    // the vector's JMP takes 3; the pin changes as the SBI starts. From 5 to under 7 cycles, 312.5
+    // to 437.5 ns, which the VCD's whole nanoseconds, rounded down, show as 312 to 437.
+    const std::int64_t delay = answers[k] - encoder[k];
+    EXPECT_GE(delay, static_cast<std::int64_t>(5 * kCycleNs)) << "edge " << k << " at " << encoder[k];
+    EXPECT_LE(delay, static_cast<std::int64_t>(7 * kCycleNs)) << "edge " << k << " at " << encoder[k];
+  }
+  const auto report = nlohmann::json::parse(run.file("summary.json"))["avr_engines"]["rover.main"];
+  ASSERT_EQ(report["isrs"].size(), 1u) << report.dump();
+  EXPECT_EQ(report["isrs"][0]["vector"], 9);  // PCINT0: vector 10 of datasheet table 14-1, counted from 1
+  EXPECT_EQ(report["isrs"][0]["entries"].get<std::size_t>(), encoder.size());
+  EXPECT_EQ(report["isrs"][0]["latency_cycles"]["max"].get<int>(), 2);  // that one RJMP
+}
+
 TEST(AvrEngine, TheSameRunTwiceGivesTheSameBytes) {
   TempDir dir;
   const std::string project =
@@ -329,6 +370,47 @@ INSTANTIATE_TEST_SUITE_P(
         // The watchdog at its shortest (15 ms, datasheet table 12-2) and never reset.
         Hostile{"#include <avr/wdt.h>\nint main(void) { wdt_enable(WDTO_15MS); for (;;) {} }\n", "reset"}),
     case_name<Hostile>);
+
+// Random bytes as flash: whatever they decode to, the run ends by itself, a chip that fails says
+// how in the chip's terms (never as simavr's bare "avr_sadly_crashed"; image 9 reads past RAM),
+// its events before the failure are taken (image 7's pin changes at cycle 13 once read as a
+// corrupted link), and no engine is left.
+TEST(AvrEngine, RandomBytesAsFlashAreReportedAndLeaveNothingRunning) {
+  int stopped = 0;
+  for (unsigned seed = 1; seed <= 12; ++seed) {
+    TempDir dir;
+    std::mt19937 random(seed);  // fixed seeds: the same images every run
+    std::string bytes(4096, '\0');
+    for (auto& b : bytes) b = static_cast<char>(random() & 0xff);
+    dir.write("random.bin", bytes);
+    const std::string objcopy = "cd " + dir.path().string() +
+                                " && avr-objcopy -I binary -O elf32-avr -B avr:6 --rename-section "
+                                ".data=.text,contents,alloc,load,readonly,code random.bin random.elf";
+    ASSERT_EQ(std::system(objcopy.c_str()), 0) << objcopy;
+    const std::string mcu = "    <mcu name=\"main\" engine=\"avr\">\n      <firmware elf=\"" +
+                            (dir.path() / "random.elf").string() + "\"/>\n    </mcu>\n";
+    const auto run = run_sear(dir, rover_project(mcu, "", 0.05));
+    // 0: the bytes happened to make a program that runs to the end, as they may on the chip.
+    ASSERT_TRUE(run.exit_code == 0 || run.exit_code == 3) << "seed " << seed << ": " << run.err;
+    if (run.exit_code == 3) {
+      ++stopped;
+      EXPECT_TRUE(std::regex_search(run.err, std::regex("jumped into nowhere: pc 0x[0-3][0-9a-f]{4} |crashed at pc "
+                                                        "0x[0-9a-f]{5}, cycle [0-9]+: [A-Z]|stack|reset|halted")))
+          << "seed " << seed << ": " << run.err;
+      EXPECT_EQ(run.err.find("avr_sadly_crashed"), std::string::npos) << "seed " << seed << ": " << run.err;
+    }
+    // The engine runs with the image's path on its command line. (The run's keeper, a fork of
+    // `sear` that outlives it by design for a moment, is not the engine.)
+    for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+      const std::string cmdline = read_file(entry.path() / "cmdline");
+      EXPECT_EQ(cmdline.find((dir.path() / "random.elf").string()), std::string::npos)
+          << "seed " << seed << ": left running: " << entry.path() << " " << cmdline;
+    }
+  }
+  // Random code leaves a 4 KiB image, or reads a data address past RAM, within a few dozen
+  // instructions nearly always (all of the first 40 of these images do, within 0.05 s).
+  EXPECT_GE(stopped, 9);
+}
 
 }  // namespace
 }  // namespace sear::test
