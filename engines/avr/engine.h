@@ -44,6 +44,7 @@ void avr_usarts_init(void);
 void avr_usarts_take_quantum(void);  /* the link's rx[] for the quantum just begun */
 int64_t avr_usarts_next_ns(void);    /* the next byte's stop-bit end, INT64_MAX if none */
 void avr_usarts_run_due(int64_t now_ns);
+uint32_t avr_usart_overruns(int n); /* bytes lost to overrun on USARTn so far */
 
 /* Timers (timer_modes.c): defines the phase-correct PWM modes simavr 1.6 leaves undefined,
  * before the firmware runs; returns how many timers it found. */

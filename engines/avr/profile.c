@@ -151,9 +151,10 @@ void avr_profile_write(void) {
   for (int i = 0; i < tops; ++i)
     OUT("%s\n    {\"name\": \"%s\", \"cycles\": %" PRIu64 ", \"share\": %.6f}", i ? "," : "", top[i].name, top[i].cycles,
         busy ? (double)top[i].cycles / (double)busy : 0.0);
-  OUT("%s],\n  \"stack\": {\"ram_end\": %u, \"bss_end\": %u, \"lowest_sp\": %u, \"worst_depth_bytes\": %u, "
+  OUT("%s],\n  \"usart_overruns\": [%u, %u, %u, %u],\n  \"stack\": {\"ram_end\": %u, \"bss_end\": %u, \"lowest_sp\": %u, \"worst_depth_bytes\": %u, "
       "\"free_ram_bytes\": %d}\n}\n",
-      tops ? "\n  " : "", (unsigned)avr->ramend, engine.bss_end, engine.lowest_sp,
+      tops ? "\n  " : "", avr_usart_overruns(0), avr_usart_overruns(1), avr_usart_overruns(2), avr_usart_overruns(3),
+      (unsigned)avr->ramend, engine.bss_end, engine.lowest_sp,
       (unsigned)(avr->ramend - engine.lowest_sp), (int)engine.lowest_sp - (int)engine.bss_end);
 #undef OUT
   if (n >= sizeof text) n = sizeof text - 1;

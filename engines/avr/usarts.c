@@ -1,7 +1,7 @@
 /* The four USARTs: bytes the firmware writes to UDRn leave at the baud its UBRRn gives and are
- * stamped with their stop bit's end; bytes from the simulator enter at theirs, through the
- * chip's two-byte receive FIFO (simavr's own holds 64): a third unread byte is an overrun (DORn),
- * lost as on the chip. */
+ * stamped with their stop bit's end; bytes from the simulator enter at theirs, held as the chip
+ * holds them (simavr's own FIFO holds 64): two in the receive buffer and a third waiting in the
+ * shift register; a fourth unread byte is an overrun (DORn), lost as on the chip. */
 #include <stdint.h>
 #include <string.h>
 
@@ -30,7 +30,13 @@ static struct {
   uint32_t baud_told;  /* the rate last sent as UART_BEGIN */
   int64_t line_free_ns; /* when the transmitter's last stop bit ends */
   uint32_t overruns;
+  avr_io_read_t udr_read; /* simavr's own read of UDRn, which ours wraps */
+  void *udr_param;
 } ports[SEAR_LINK_UARTS];
+
+/* The chip's receive buffer, two frames, and its shift register, which holds a third until the
+ * buffer has room (the datasheet's USART chapter: an overrun needs both full and a new start bit). */
+#define RX_HELD 3
 
 static struct {
   int64_t time_ns;
@@ -118,6 +124,18 @@ static void arrive(int64_t time_ns, uint8_t port, uint8_t byte) {
   arrivals[at].byte = byte;
 }
 
+/* DORn "is valid until the receive buffer (UDRn) is read" (UCSRnA in the datasheet): simavr never
+ * clears it, so a read of UDRn does, after simavr's own read has taken the byte. The chip keeps the
+ * flag with the frame it follows; here it goes with the first read after the loss. */
+static uint8_t udr_read(avr_t *avr, avr_io_addr_t addr, void *param) {
+  const int n = (int)(intptr_t)param;
+  const uint8_t byte = ports[n].udr_read ? ports[n].udr_read(avr, addr, ports[n].udr_param) : avr->data[addr];
+  avr->data[ucsra[n]] = (uint8_t)(avr->data[ucsra[n]] & ~DOR);
+  return byte;
+}
+
+uint32_t avr_usart_overruns(int n) { return n >= 0 && n < SEAR_LINK_UARTS ? ports[n].overruns : 0; }
+
 static void on_tx(struct avr_irq_t *irq, uint32_t value, void *param) {
   (void)irq;
   const int n = (int)(intptr_t)param;
@@ -146,6 +164,12 @@ void avr_usarts_init(void) {
     ports[n].irq = avr_io_getirq(engine.avr, AVR_IOCTL_UART_GETIRQ(u->name), UART_IRQ_INPUT);
     avr_irq_register_notify(avr_io_getirq(engine.avr, AVR_IOCTL_UART_GETIRQ(u->name), UART_IRQ_OUTPUT), on_tx,
                             (void *)(intptr_t)n);
+    /* simavr refuses a second reader of an address, so ours takes its place and calls it. */
+    const avr_io_addr_t udr = AVR_DATA_TO_IO(u->r_udr);
+    ports[n].udr_read = engine.avr->io[udr].r.c;
+    ports[n].udr_param = engine.avr->io[udr].r.param;
+    engine.avr->io[udr].r.c = udr_read;
+    engine.avr->io[udr].r.param = (void *)(intptr_t)n;
   }
   for (int n = 0; n < SEAR_LINK_UARTS; ++n)
     if (!ports[n].uart) engine_fatal("libsimavr's ATmega2560 has no USART%d", n);
@@ -175,7 +199,7 @@ void avr_usarts_run_due(int64_t now_ns) {
     if (!(d[UCSRB(n)] & RXEN)) continue; /* the receiver is off, as on the chip */
     tell_baud(n, engine_now_ns());
     engine_emit(SEAR_EVENT_UART_RX, (uint8_t)n, byte, t < engine.turn_start_ns ? engine.turn_start_ns : t);
-    if (fifo_fill(ports[n].uart) >= 2) {
+    if (fifo_fill(ports[n].uart) >= RX_HELD) {
       d[ucsra[n]] |= DOR;
       ports[n].overruns++;
       continue;

@@ -148,6 +148,33 @@ TEST(AvrEngine, UsartReceiveInterruptEchoesEachByteOneFrameAfterIt) {
   }
 }
 
+// Six bytes back to back at 9600 baud while the firmware reads nothing for 20 ms: the chip keeps
+// two in its receive buffer and one in its shift register, and loses the rest with DOR0 set until
+// UDR0 is read (simavr alone would keep all six: its FIFO holds 64).
+TEST(AvrEngine, UsartOverrunKeepsThreeBytesAndSetsDorUntilRead) {
+  TempDir dir;
+  std::string capture = "# SEAR UART capture: six bytes back to back, 8N1 at 9600 (1.04 ms a frame)\n";
+  for (int i = 0; i < 6; ++i) {
+    char line[64];
+    std::snprintf(line, sizeof line, "0.%09d tx %02x\n", 1000000 + i * 1040000, 'A' + i);
+    capture += line;
+  }
+  dir.write("bytes.log", capture);
+  const auto run = run_sear(
+      dir, rover_project(avr_mcu(test_firmware("usart_overrun.c"), "      <uart port=\"0\" receive=\"bytes.log\"/>\n"),
+                         "", 0.03));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string log = run.file("rover.main.uart0.log");
+  const auto rx = uart_bytes(log, "rx"), tx = uart_bytes(log, "tx");
+  ASSERT_EQ(rx.size(), 6u) << log;  // all six reached the pin
+  std::string answer;
+  for (const auto& b : tx) answer += static_cast<char>(b.second);
+  // DOR0 set; A and B from the buffer, C from the shift register; DOR0 clear once read.
+  EXPECT_EQ(answer, "!ABC.") << log;
+  const auto report = nlohmann::json::parse(run.file("summary.json"))["avr_engines"]["rover.main"];
+  EXPECT_EQ(report["usart_overruns"], nlohmann::json::parse("[3, 0, 0, 0]")) << report.dump();
+}
+
 TEST(AvrEngine, TwiAndSpiMastersReadTheImusWhoAmIByRegisters) {
   TempDir dir;
   const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("imu_registers.c"),
