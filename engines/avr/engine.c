@@ -338,6 +338,7 @@ int main(int argc, char **argv) {
   refuse_high_adc_channels();
   load_chip(elf, report);
   avr_pins_init();
+  avr_usage_init();
   avr_usarts_init();
   avr_buses_init();
   sear_end_wait_for_turn(engine.link);
@@ -353,6 +354,7 @@ int main(int argc, char **argv) {
     avr_usarts_take_quantum();
     run_quantum();
     mcu_readings_publish();
+    avr_usage_note_interrupts();
     /* Every tenth quantum (10 ms at the default step): the report is read after the run, and the
      * engine is stopped without warning, so it is kept nearly current at little cost. */
     if (++quanta % 10 == 0) avr_profile_write();

@@ -146,6 +146,10 @@ void avr_pins_init(void) {
   for (uint8_t pin = 0; pin < SEAR_LINK_PINS; ++pin) ports[pin_port_bit[pin] >> 3].pin_of_bit[pin_port_bit[pin] & 7] = pin;
 }
 
+uint8_t avr_pin_at(int port, int bit) {
+  return port >= 0 && port < 11 && bit >= 0 && bit < 8 ? ports[port].pin_of_bit[bit] : NO_PIN;
+}
+
 /* Timer outputs. Register data addresses from the ATmega2560 datasheet's register summary. */
 struct timer_regs {
   uint16_t tccra, tccrb, icr, ocr[3];

@@ -281,6 +281,25 @@ TEST(AvrEngine, PinChangeInterruptAnswersEachEncoderEdgeWithinItsCycles) {
   EXPECT_EQ(report["isrs"][0]["latency_cycles"]["max"].get<int>(), 2);  // that one RJMP
 }
 
+// The wiring report on this engine: what the registers show the firmware read. It converts ADC
+// channel 0 and reads PINB; a ranger on channel 1 and a switch on pin 22 (PA0) it never reads.
+TEST(AvrEngine, TheWiringReportNamesInputsTheFirmwareNeverRead) {
+  const std::string wiring =
+      "      <gp2d12 name=\"ir_read\" adc=\"0\" pos=\"0.15 0 0.02\"/>\n"
+      "      <gp2d12 name=\"ir_unread\" adc=\"1\" pos=\"0.15 0.05 0.02\"/>\n"
+      "      <bump name=\"bump_read\" pin=\"10\" pos=\"0.14 0 -0.01\" width=\"0.18\" reach=\"0.02\"/>\n"
+      "      <bump name=\"bump_unread\" pin=\"22\" pos=\"-0.14 0 -0.01\" width=\"0.18\" reach=\"0.02\"/>\n";
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("reads_some.c"), wiring), "", 0.05));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto notes = nlohmann::json::parse(run.file("summary.json"))["wiring"];
+  std::vector<std::string> unused;
+  for (const auto& note : notes)
+    if (note["kind"] == "unused wiring") unused.push_back(note["device"].get<std::string>());
+  std::sort(unused.begin(), unused.end());
+  EXPECT_EQ(unused, (std::vector<std::string>{"bump_unread", "ir_unread"})) << notes.dump(2);
+}
+
 TEST(AvrEngine, TheSameRunTwiceGivesTheSameBytes) {
   TempDir dir;
   const std::string project =
