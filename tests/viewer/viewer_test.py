@@ -385,6 +385,13 @@ def hills_case(sear, work, env, assets, ir_probe, profile):
         row = wait_for("a readings row", lambda: driver.find_elements("css selector", "table.readings tr[data-device]"), 20)
         if not check(bool(row), "6. the probe's readings are listed"):
             return
+        # Readings say what they are in words and units (the GP2D12's output in volts), not as raw
+        # field names; the world's colours have a legend.
+        table = driver.find_element("css selector", "table.readings").text
+        check("output voltage (V)" in table and "_" not in table,
+              "6. readings named with units (%r)" % table[:120])
+        page = driver.execute_script("return document.body.innerText")
+        check("IR / sonar beam" in page and "robot's path" in page, "6. the legend names the world's colours")
         row[0].click()
         first = wait_for("plot", lambda: plot_pixels(driver) > 0 and plot_pixels(driver), 10)
         time.sleep(1.0)
