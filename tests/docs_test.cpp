@@ -1,5 +1,5 @@
-// What README says of the outputs is generated from the same lists the code writes them from:
-// the trace's columns, as the header of a run's trace_<robot>.csv has them.
+// What docs/outputs.md says of the outputs is generated from the same lists the code writes them
+// from: the trace's columns, as the header of a run's trace_<robot>.csv has them.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,11 +11,11 @@
 namespace sear::test {
 namespace {
 
-TEST(Docs, ReadmeDescribesTheTraceColumnsAsTheFileHasThem) {
-  const std::string readme = read_file(std::string(SEAR_ASSET_DIR) + "/../README.md");
+TEST(Docs, TheOutputsPageDescribesTheTraceColumnsAsTheFileHasThem) {
+  const std::string outputs = read_file(std::string(SEAR_ASSET_DIR) + "/../docs/outputs.md");
   const std::string row = "| `trace_<robot>.csv` | One row per trace period, starting at t = 0: " +
                           trace_columns_markdown() + " |";
-  EXPECT_NE(readme.find(row), std::string::npos) << "README.md's row for the trace should read\n" << row;
+  EXPECT_NE(outputs.find(row), std::string::npos) << "docs/outputs.md's row for the trace should read\n" << row;
 }
 
 // The header of a real run's trace: the fixed columns in the list's order, then the rover's two
