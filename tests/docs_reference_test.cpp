@@ -406,7 +406,9 @@ struct Entry {
   std::string parent;  // "" for any
   std::string text;
   std::string second_cell;
-  bool element_table = false;  // a row of a table whose header's first cell is "element"
+  // A row of a table whose header's first cell is "element", or a device section: not a row of
+  // a table of attributes (a device's `uart` is not the <uart> element).
+  bool element_table = false;
 };
 
 std::vector<Entry> entries(const std::string& text) {
@@ -420,7 +422,7 @@ std::vector<Entry> entries(const std::string& text) {
   for (std::string line; std::getline(in, line); previous = line) {
     std::smatch m;
     if (std::regex_search(line, m, std::regex(R"(^#### `<(\w+)>`)"))) {
-      out.push_back({{m[1]}, "", preamble, "", false});
+      out.push_back({{m[1]}, "", preamble, "", true});
       section = static_cast<int>(out.size()) - 1;
       in_preamble = false;
       continue;
@@ -489,7 +491,9 @@ std::string reference_of(const Path& path, const Pages& pages, bool* found) {
   std::string text;
   *found = false;
   for (const std::string& name : pages_for(path)) {
-    const auto& list = pages.entries.at(name);
+    std::vector<Entry> list;
+    for (const Entry& e : pages.entries.at(name))
+      if (e.element_table) list.push_back(e);
     std::string here;
     for (const Entry& e : list)
       if (e.elements.count(element) && e.parent == parent && !parent.empty()) here += e.text + "\n";
