@@ -1,9 +1,10 @@
-// What README says of the outputs is generated from the same lists the code writes them from:
-// the trace's columns, as the header of a run's trace_<robot>.csv has them.
+// What docs/outputs.md says of the outputs is generated from the same lists the code writes them
+// from: the trace's columns, as the header of a run's trace_<robot>.csv has them.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <regex>
+#include <set>
 
 #include "exporters/trace_csv.hpp"
 #include "firmware_run.hpp"
@@ -11,11 +12,11 @@
 namespace sear::test {
 namespace {
 
-TEST(Docs, ReadmeDescribesTheTraceColumnsAsTheFileHasThem) {
-  const std::string readme = read_file(std::string(SEAR_ASSET_DIR) + "/../README.md");
+TEST(Docs, TheOutputsPageDescribesTheTraceColumnsAsTheFileHasThem) {
+  const std::string outputs = read_file(std::string(SEAR_ASSET_DIR) + "/../docs/outputs.md");
   const std::string row = "| `trace_<robot>.csv` | One row per trace period, starting at t = 0: " +
                           trace_columns_markdown() + " |";
-  EXPECT_NE(readme.find(row), std::string::npos) << "README.md's row for the trace should read\n" << row;
+  EXPECT_NE(outputs.find(row), std::string::npos) << "docs/outputs.md's row for the trace should read\n" << row;
 }
 
 // The header of a real run's trace: the fixed columns in the list's order, then the rover's two
@@ -53,6 +54,36 @@ TEST(Docs, TheDriversPageListsEveryCallTheirHeadersDeclare) {
     }
   }
   EXPECT_GE(seen, 27);  // the 27 calls of the eight headers today: the pattern still finds them
+}
+
+// docs/firmware.md's HAL table has a row per header of hal/include/hal/, naming every call the
+// header declares (`name(...)` or `name`); and every `name(` in the table is a call some header
+// declares, so that neither the page nor the HAL can gain or lose a call alone.
+TEST(Docs, TheHalTableNamesEveryCallTheHeadersDeclare) {
+  const std::filesystem::path include = std::filesystem::path(SEAR_ASSET_DIR) / ".." / "hal" / "include" / "hal";
+  const std::string page = read_file(std::filesystem::path(SEAR_ASSET_DIR) / ".." / "docs" / "firmware.md");
+  const std::regex declaration(R"(^[^#/ *][^;{}()]*?\b(\w+)\([^;]*\);)", std::regex::ECMAScript | std::regex::multiline);
+  std::set<std::string> declared;
+  std::string table;
+  for (const auto& entry : std::filesystem::directory_iterator(include)) {
+    const std::string header = read_file(entry.path()), name = entry.path().filename().string();
+    std::vector<std::string> calls;
+    for (std::sregex_iterator it(header.begin(), header.end(), declaration), end; it != end; ++it) calls.push_back((*it)[1]);
+    if (calls.empty()) continue;  // hal.h, which includes the others
+    const auto row = page.find("\n| `" + name + "` |");
+    ASSERT_NE(row, std::string::npos) << "docs/firmware.md's HAL table has no row for " << name;
+    const std::string text = page.substr(row, page.find('\n', row + 1) - row);
+    table += text;
+    for (const std::string& call : calls) {
+      declared.insert(call);
+      EXPECT_TRUE(text.find("`" + call + "(") != std::string::npos || text.find("`" + call + "`") != std::string::npos)
+          << call << " (" << name << ") is not in its row of docs/firmware.md's HAL table";
+    }
+  }
+  EXPECT_GE(declared.size(), 50u);  // the 50 calls of the twelve headers today: the pattern still finds them
+  const std::regex named(R"(`(\w+)\()");
+  for (std::sregex_iterator it(table.begin(), table.end(), named), end; it != end; ++it)
+    EXPECT_TRUE(declared.count((*it)[1])) << "docs/firmware.md's HAL table names " << (*it)[1] << "(), which no header declares";
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Firmware timing held to the HAL's cost model (README, "Lockstep: what the firmware sees"): every
+// Firmware timing held to the HAL's cost model (docs/firmware.md, "Lockstep: what the firmware sees"): every
 // HAL call acts at the moment it is made and then costs hal_call_cycles / clock_hz; delay_us and
 // delay_ms last exactly what they ask, counted from the call, or the call's cost if that is
 // longer; adc_read lasts its 104 us conversion. Checked to the nanosecond on the pin waveform

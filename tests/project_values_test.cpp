@@ -399,7 +399,7 @@ TEST(ProjectValues, AFileWithVeryManyErrorsKeepsAHundred) {
 }
 
 TEST(ProjectValues, DuplicateNamesAmong160000BoxesAreAllFound) {
-  // A generated world: name checks must stay linear (see bench/ and the README for the time).
+  // A generated world: name checks must stay linear (see docs/project.md for the time).
   TempDir dir;
   constexpr int kBoxes = 160000;
   std::string xml = "<project>\n  <world>\n";

@@ -1,7 +1,7 @@
-// An unpowered rover on flat ground stays where it settled: README, `motor`: gear_friction is the
+// An unpowered rover on flat ground stays where it settled: docs/project.md, `motor`: gear_friction is the
 // gearbox's Coulomb friction, "which holds the wheels when unpowered". On flat ground nothing
 // pushes the rover at all, so any drift is the solver's, not the model's. At the default 20
-// QuickStep iterations the solver's residual lets a resting rover creep about 0.6 mm/s (README,
+// QuickStep iterations the solver's residual lets a resting rover creep about 0.6 mm/s (docs/models.md,
 // known limits); at 200 it converges, and what is left is the model's own slip, bounded below.
 #include <gtest/gtest.h>
 

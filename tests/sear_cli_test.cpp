@@ -182,7 +182,7 @@ TEST(SearCli, CheckAcceptsTheBundledProject) {
 }
 
 TEST(SearCli, BadNumbersOnTheCommandLineAreRefused) {
-  // CLI11's ValidationError (105): a wrong command line, as README says, and no run starts.
+  // CLI11's ValidationError (105): a wrong command line, as docs/cli.md says, and no run starts.
   const fs::path out = fresh_dir("bad_numbers");
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--duration nan", "--duration: expected a number of seconds > 0 and <= 1e7, got 'nan'"},

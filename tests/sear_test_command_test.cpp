@@ -275,7 +275,7 @@ TEST(SearTestCommand, ShardsByGnuParallelMergeIntoTheSingleRunsReport) {
   EXPECT_EQ(merged.find(kSuite), std::string::npos);
 }
 
-// The README's Slurm array job, where a Slurm controller with an idle node answers here:
+// docs/expectations.md's Slurm array job, where a Slurm controller with an idle node answers here:
 // scripts/test.sh starts one (scripts/slurm-local.sh) when run as root, as in CI, where a missing
 // node is a failure rather than a skip.
 TEST(SearTestCommand, SlurmArrayJobShardsMergeIntoTheSingleRunsReport) {

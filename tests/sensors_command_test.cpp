@@ -1,8 +1,8 @@
 // `sear sensors` held to the table of device kinds and to the loader that reads the same table: the
 // JSON lists exactly the table's kinds with every wire and parameter, its defaults are the values the
 // loader gives an element that leaves them out, its ranges are the ones the loader refuses values
-// by, the text names every element and attribute, and README's reference between its markers is
-// exactly `sear sensors --markdown` (scripts/update-readme-reference.sh rewrites it).
+// by, the text names every element and attribute, and docs/project.md's reference between its
+// markers is exactly `sear sensors --markdown` (scripts/update-device-reference.sh rewrites it).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -330,9 +330,9 @@ TEST(SensorsCommand, TextNamesEveryElementAndAttribute) {
   }
 }
 
-// README's reference between the markers is the command's output, byte for byte; and that output
-// has a section for every kind with a row for every attribute.
-TEST(SensorsCommand, ReadmeReferenceIsTheMarkdownOutput) {
+// docs/project.md's reference between the markers is the command's output, byte for byte; and that
+// output has a section for every kind with a row for every attribute.
+TEST(SensorsCommand, ProjectPageReferenceIsTheMarkdownOutput) {
   const std::string markdown = sear_output("sensors --markdown");
   for (const DeviceKind* k : device_kinds()) {
     SCOPED_TRACE(k->element);
@@ -345,19 +345,20 @@ TEST(SensorsCommand, ReadmeReferenceIsTheMarkdownOutput) {
     for (const std::string& a : attributes) EXPECT_NE(section.find("\n| `" + a + "` |"), std::string::npos) << a;
   }
 
-  std::ifstream in(SEAR_README, std::ios::binary);
-  ASSERT_TRUE(in) << "cannot read " << SEAR_README;
-  std::ostringstream readme;
-  readme << in.rdbuf();
-  const std::string text = readme.str();
+  std::ifstream in(SEAR_DEVICE_REFERENCE, std::ios::binary);
+  ASSERT_TRUE(in) << "cannot read " << SEAR_DEVICE_REFERENCE;
+  std::ostringstream page;
+  page << in.rdbuf();
+  const std::string text = page.str();
   const std::string marker = "<!-- sear sensors --markdown -->", begin = marker + "\n", end = "<!-- end -->";
   const auto from = text.find(begin);
-  ASSERT_NE(from, std::string::npos) << "README.md has no line '" << marker
-                                     << "'; add it and '" << end << "', then run scripts/update-readme-reference.sh";
+  ASSERT_NE(from, std::string::npos) << SEAR_DEVICE_REFERENCE << " has no line '" << marker << "'; add it and '" << end
+                                     << "', then run scripts/update-device-reference.sh";
   const auto to = text.find(end, from + begin.size());
-  ASSERT_NE(to, std::string::npos) << "README.md's reference has no '" << end << "' after it";
+  ASSERT_NE(to, std::string::npos) << SEAR_DEVICE_REFERENCE << "'s reference has no '" << end << "' after it";
   EXPECT_EQ(text.substr(from + begin.size(), to - from - begin.size()), markdown)
-      << "README.md's device reference differs from `sear sensors --markdown`: run scripts/update-readme-reference.sh";
+      << SEAR_DEVICE_REFERENCE << "'s device reference differs from `sear sensors --markdown`: run "
+      << "scripts/update-device-reference.sh";
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 /* The reference rover, the bundled default project's firmware: one ATmega2560 follows a loop of
  * GPS waypoints and steers round obstacles it sees with a SICK LMS200, with every sensor of the
- * default project wired in (see ../../assets/projects/default.xml and README.md beside this).
+ * default project wired in (see ../../assets/projects/default.xml and ../../README.md).
  * Plain 8-bit C: int is 16 bits on the ATmega2560, so every wider value says so. */
 #include <hal/hal.h>
 #include <math.h>

@@ -1,4 +1,4 @@
-// Reads the bytes of a SEAR UART capture (ROBOT.MCU.uartN.log, see README) so that a port can
+// Reads the bytes of a SEAR UART capture (ROBOT.MCU.uartN.log, see docs/outputs.md) so that a port can
 // receive what another device once sent: each `tx` line becomes a byte due at its time.
 #pragma once
 

@@ -14,8 +14,8 @@ namespace sear {
 
 // One column of the trace, or one per wheel, motor or servo (`{}` in its name stands for the
 // part's name; a part's columns stand together). The one list the header is written from;
-// README's description of the file is generated from it too (trace_columns_markdown) and a test
-// holds README to it.
+// docs/outputs.md's description of the file is generated from it too (trace_columns_markdown) and a
+// test holds that page to it.
 enum class TracePer { Robot, Wheel, Motor, Servo };
 struct TraceColumn {
   const char* name;

@@ -1,4 +1,4 @@
-// The LCM channels a run publishes and listens on (the README lists them), one place for the
+// The LCM channels a run publishes and listens on (docs/bridges.md lists them), one place for the
 // bridge, the tests and users' programs to agree.
 #pragma once
 

@@ -71,7 +71,7 @@ struct ProjectDesc;
 void build_project_firmware(ProjectDesc& project, bool quiet);
 int check_command(const std::string& project);
 // Lists the device kinds of the table, with their wiring and parameters: as text, as a JSON list
-// (one object per kind, for tools) or as README's Markdown reference.
+// (one object per kind, for tools) or as docs/project.md's Markdown reference.
 enum class SensorsFormat { Text, Json, Markdown };
 int sensors_command(SensorsFormat format);
 // Prints the world-building errors in `text` (one per line), the first hundred and a count, as

@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
       ->check(finite_number(0.001, 1e6, false, "a factor 0.001..1e6"));
 
   run_cmd->add_option("--lcm", run.lcm_url,
-                      "Publish the run on LCM and take DRIVE and CONTROL messages (channels: see the README); "
+                      "Publish the run on LCM and take DRIVE and CONTROL messages (channels: see docs/bridges.md); "
                       "a CONTROL reset starts the run over at t = 0, rewriting its output files")
       ->expected(0, 1)
       ->default_str(sear::kLcmDefaultUrl)
@@ -221,7 +221,7 @@ int main(int argc, char** argv) {
   sensors_cmd
       ->add_flag_callback(
           "--markdown", [&] { sensors_format = sear::SensorsFormat::Markdown; },
-          "Print the reference README holds between its `sear sensors --markdown` markers")
+          "Print the reference docs/project.md holds between its `sear sensors --markdown` markers")
       ->excludes(sensors_json);
 
   sear::TestOptions test;
