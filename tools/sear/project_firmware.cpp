@@ -1,9 +1,13 @@
 // Turns every MCU's <firmware sources="..."> into what its engine runs before a run, through the
 // cached firmware builder: a host executable against the HAL runtime this `sear` was built with,
 // or, on the AVR engine, an ATmega2560 image against hal/targets/avr, run by sear-avr-engine.
+// A native MCU's sources are compiled for the ATmega2560 as well, meanwhile, for the chip's warnings.
 #include <fmt/format.h>
 
+#include <map>
+
 #include "scene/description.hpp"
+#include "sear/chip_check.hpp"
 #include "sear/commands.hpp"
 #include "sear/firmware_builder.hpp"
 #ifdef SEAR_HAS_SKETCHES
@@ -32,6 +36,30 @@ void build_project_firmware(ProjectDesc& project, bool quiet) {
 #endif
   const FirmwareToolchain toolchain =
       default_toolchain(SEAR_HAL_INCLUDE_DIR, {SEAR_HAL_RUNTIME_LIBRARY}, link_flags);
+
+  // The chip's compile (the firmware's own sources, about 0.2 s each: the AVR HAL, 3 s more, is not
+  // needed for warnings) starts first and goes on beside the host builds; its findings are printed
+  // after theirs. Under --quiet nothing would be shown, so nothing is compiled.
+  std::future<std::vector<ChipOutcome>> chip_builds;
+  try {
+    std::vector<ChipFirmware> chip;
+    for (const auto& robot : project.robots)
+      for (const auto& mcu : robot.mcus)
+        if (mcu.engine != "avr" && mcu.firmware_sketch.empty() && !mcu.firmware_sources.empty() && !quiet)
+          chip.push_back({robot.name + "." + mcu.name, robot.name + "." + mcu.name + ".avr-check", mcu.firmware_sources,
+                          with_flags(avr_toolchain(SEAR_HAL_INCLUDE_DIR, SEAR_HAL_AVR_DIR, mcu.clock_hz), mcu)});
+    for (auto& one : chip) one.toolchain.compile_only = true;
+    if (!chip.empty() && program_found(chip.front().toolchain.compiler)) {
+      chip_builds = start_chip_builds(std::move(chip));
+    } else if (!chip.empty()) {
+      fmt::print(stderr, "sear: {} not found, so the firmware is not also built for the ATmega2560 to show what "
+                         "only the chip's compiler sees, such as a 16-bit int overflowing (Debian: gcc-avr avr-libc)\n",
+                 chip.front().toolchain.compiler);
+    }
+  } catch (const FirmwareBuildError& e) {  // no AVR HAL beside this sear
+    fmt::print(stderr, "sear: the firmware is not also built for the ATmega2560: {}\n", e.what());
+  }
+  std::map<std::string, std::string> host_executables;  // by robot.mcu, for the chip's report
   for (auto& robot : project.robots) {
     for (auto& mcu : robot.mcus) {
       if (!mcu.firmware_sketch.empty()) {
@@ -59,10 +87,14 @@ void build_project_firmware(ProjectDesc& project, bool quiet) {
       } else if (!mcu.firmware_sources.empty()) {
         mcu.firmware_executable =
             build_firmware(robot.name + "." + mcu.name, mcu.firmware_sources, with_flags(toolchain, mcu), &warnings);
+        host_executables[robot.name + "." + mcu.name] = mcu.firmware_executable;
       }
       if (!warnings.empty() && !quiet) fmt::print(stderr, "{}", warnings);
     }
   }
+  if (chip_builds.valid())
+    for (const auto& outcome : chip_builds.get())
+      fmt::print(stderr, "{}", chip_report(outcome, cached_compiler_output(host_executables[outcome.id])));
 }
 
 }  // namespace sear
