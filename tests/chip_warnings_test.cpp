@@ -74,19 +74,26 @@ class ScopedEnv {
   std::optional<std::string> old_;
 };
 
-// A folder whose firmware cache is its own, and whose avr-gcc ($AVR_CC) is the real one behind a
-// script that notes each compile ("-c") in compiles.log: the evidence of a compile, free of timing.
+// A folder whose firmware cache is its own, and whose avr-gcc and avr-g++ ($AVR_CC, $AVR_CXX) are
+// the real ones behind scripts that note each compile ("-c") in compiles.log: the evidence of a
+// compile, free of timing.
 class ChipRun : public ::testing::Test {
  protected:
   void SetUp() override {
     if (std::string(AVR_GCC).empty()) GTEST_SKIP() << "avr-gcc is not installed (gcc-avr, avr-libc)";
-    const std::string log = (dir_.path() / "compiles.log").string();
-    const std::string script = dir_.write(
-        "avr-gcc", "#!/bin/sh\nfor a in \"$@\"; do [ \"$a\" = -c ] && echo \"$*\" >>'" + log + "'; done\nexec '" +
-                       std::string(AVR_GCC) + "' \"$@\"\n");
-    fs::permissions(script, fs::perms::owner_all);
     cache_.emplace("SEAR_CACHE_DIR", (dir_.path() / "cache").string());
-    compiler_.emplace("AVR_CC", script);
+    c_compiler_.emplace("AVR_CC", noting("avr-gcc"));
+    cxx_compiler_.emplace("AVR_CXX", noting("avr-g++"));  // a sketch's C++
+  }
+  // A script in the folder that notes each compile and runs `program` from avr-gcc's folder.
+  std::string noting(const std::string& program) const {
+    const std::string log = (dir_.path() / "compiles.log").string();
+    const std::string real = (fs::path(AVR_GCC).parent_path() / program).string();
+    const std::string script = dir_.write(
+        program, "#!/bin/sh\nfor a in \"$@\"; do [ \"$a\" = -c ] && echo \"$*\" >>'" + log + "'; done\nexec '" +
+                     real + "' \"$@\"\n");
+    fs::permissions(script, fs::perms::owner_all);
+    return script;
   }
   std::size_t compiles() const { return lines_of(read_file(dir_.path() / "compiles.log")).size(); }
   SearRun run(const std::string& firmware) {
@@ -97,7 +104,7 @@ class ChipRun : public ::testing::Test {
   std::string source() const { return (dir_.path() / "main.c").string(); }
 
   TempDir dir_;
-  std::optional<ScopedEnv> cache_, compiler_;
+  std::optional<ScopedEnv> cache_, c_compiler_, cxx_compiler_;
 };
 
 TEST_F(ChipRun, AnIntThatOverflowsOnlyOnTheChipIsShownOnceWithItsFileAndLine) {
@@ -157,6 +164,31 @@ TEST_F(ChipRun, AFirmwareTheChipCannotCompileRunsHereWithOneLineSayingWhy) {
   EXPECT_EQ(count(run_result.err, source() + ":2:"), 1u) << run_result.err;
   EXPECT_NE(run_result.err.find("pthread.h"), std::string::npos) << run_result.err;
   EXPECT_NE(run_result.file("rover.main.console.log").find("ran"), std::string::npos);
+}
+
+// A sketch is compiled for the chip as the IDE does, against Debian's genuine core: the same
+// overflow, at its line of the .ino (arduino-builder's #line directives), then from the cache.
+TEST_F(ChipRun, ASketchIsLookedAtAsTheIdeWouldBuildIt) {
+  if (!SKETCHES) GTEST_SKIP() << "this sear was built without the Arduino layer (arduino-core-avr, arduino-builder)";
+  const std::string ino = dir_.write("Over/Over.ino",
+                                     "void setup() { Serial.begin(115200); }\n"
+                                     "\n"
+                                     "void loop() {\n"
+                                     "  long n = 1000 * 100;\n"
+                                     "  Serial.println(n > 50000 ? \"big\" : \"small\");\n"
+                                     "  delay(100);\n"
+                                     "}\n");
+  const std::string project = rover_project("    <mcu name=\"main\">\n      <firmware sketch=\"Over\"/>\n    </mcu>\n",
+                                            "", 0.25);
+  const auto first = run_sear(dir_, project);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_EQ(count(first.err, std::string(kChip) + ino + ":4:"), 1u) << first.err;
+  EXPECT_EQ(count(first.err, "[-Woverflow]"), 1u) << first.err;
+  EXPECT_EQ(compiles(), 1u);  // the preprocessed Over.ino.cpp; the core is not compiled
+  const auto second = run_sear(dir_, project);
+  ASSERT_EQ(second.exit_code, 0) << second.err;
+  EXPECT_EQ(compiles(), 1u) << "the unchanged sketch was compiled again";
+  EXPECT_EQ(count(second.err, std::string(kChip) + ino + ":4:"), 1u) << second.err;
 }
 
 TEST(ChipRunWithoutAvrGcc, SaysSoOnceAndRuns) {
