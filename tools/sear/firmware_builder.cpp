@@ -476,6 +476,7 @@ std::string build_firmware(const std::string& name, const std::vector<std::strin
 }
 
 std::string cached_compiler_output(const std::string& executable) {
+  if (executable.empty()) return "";
   return read_file(fs::path(executable).parent_path() / "compiler.txt").value_or("");
 }
 
