@@ -292,6 +292,38 @@ TEST_F(FirmwareBuilderTest, WarningsOfASuccessfulBuildAreHandedBack) {
   EXPECT_EQ(compiler_runs(), runs);
 }
 
+// What the compiler said is kept beside the cached build and read back on every run.
+TEST_F(FirmwareBuilderTest, TheWarningsStayBesideTheCachedBuild) {
+  const std::string source =
+      dir_.write("my firmware/warn.c", "int main(void) {\n  int unused_value = 3;\n  return 0;\n}\n");
+  std::string warnings;
+  const std::string exe = build_firmware("warn", {source}, toolchain_, &warnings);
+  EXPECT_EQ(cached_compiler_output(exe), warnings);
+  const std::string again = build_firmware("warn", {source}, toolchain_, &warnings);
+  EXPECT_EQ(warnings, "");  // nothing was built
+  EXPECT_NE(cached_compiler_output(again).find(source + ":2:"), std::string::npos) << cached_compiler_output(again);
+}
+
+// A check of the sources (the chip's warnings): each of the firmware's own sources is compiled and
+// nothing is linked (so a missing symbol is no error) nor are the extra sources compiled; cached alike.
+TEST_F(FirmwareBuilderTest, CompileOnlyCompilesTheOwnSourcesAndLinksNothing) {
+  const std::string source = dir_.write("my firmware/lonely.c", "int twice(int x);\nint main(void) {\n"
+                                                               "  int unused_value = 3;\n  return twice(1);\n}\n");
+  toolchain_.libraries = {};  // twice() is nowhere: a link would fail
+  toolchain_.extra_sources = {dir_.write("extra/broken.c", "this is not C\n")};
+  toolchain_.compile_only = true;
+  const std::string stamp = build_firmware("check", {source}, toolchain_);
+  EXPECT_EQ(compiler_runs(), 1);  // lonely.c alone
+  EXPECT_EQ(fs::file_size(stamp), 0U);
+  EXPECT_NE(cached_compiler_output(stamp).find(source + ":3:"), std::string::npos) << cached_compiler_output(stamp);
+  EXPECT_EQ(build_firmware("check", {source}, toolchain_), stamp);
+  EXPECT_EQ(compiler_runs(), 1);
+  // The same sources linked are another entry, which fails on twice().
+  toolchain_.compile_only = false;
+  toolchain_.extra_sources = {};
+  EXPECT_THROW(build_firmware("check", {source}, toolchain_), FirmwareBuildError);
+}
+
 TEST_F(FirmwareBuilderTest, ConcurrentBuildsOfTheSameFirmwareAgree) {
   std::string paths[2];
   std::string errors[2];

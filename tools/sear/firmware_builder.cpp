@@ -1,5 +1,5 @@
 // Firmware builds with the system C compiler, run without a shell, cached under a content hash.
-// Cache layout: <cache_dir>/<name>-<key>/{firmware, firmware.d} and <cache_dir>/<name>-<base>.last.
+// Cache layout: <cache_dir>/<name>-<key>/{firmware, firmware.d, compiler.txt} and <cache_dir>/<name>-<base>.last.
 
 #include "sear/firmware_builder.hpp"
 
@@ -36,7 +36,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bumped whenever what goes into a build changes in a way the key would not otherwise see.
-constexpr std::string_view kLayoutVersion = "sear firmware cache 1";
+constexpr std::string_view kLayoutVersion = "sear firmware cache 2";  // 2: compiler.txt
 
 // FNV-1a 64: a cache key needs a stable, well-spread hash rather than a cryptographic one, and no
 // hashing library in Debian is worth a dependency for that.
@@ -257,6 +257,33 @@ void write_atomically(const fs::path& path, const std::string& text, const fs::p
   fs::rename(temp, path, ignored);
 }
 
+// Links the compiled objects (`link`: the C driver, then one object per source, the extra sources'
+// last) into staged/firmware, adding what the tools say to `output`.
+void link_firmware(const std::string& name, const FirmwareToolchain& toolchain, std::vector<std::string> link,
+                   const std::vector<std::string>& libraries, bool any_cxx, const fs::path& scratch,
+                   const fs::path& staged, std::string& output) {
+  if (!toolchain.archiver.empty() && !toolchain.extra_sources.empty()) {
+    // The extra sources (a HAL) become an archive, so that only the parts a firmware uses are
+    // linked: a register-level firmware's own ISR() must not meet the HAL's for the same vector.
+    const std::size_t first = link.size() - toolchain.extra_sources.size();
+    const std::string archive = (scratch / "hal.a").string();
+    std::vector<std::string> ar{toolchain.archiver, "rcs", archive};
+    ar.insert(ar.end(), link.begin() + static_cast<std::ptrdiff_t>(first), link.end());
+    const ProcessResult archived = run_process(ar);
+    output += archived.output;
+    if (!archived.ok) throw FirmwareBuildError(fmt::format("firmware '{}' failed to build:\n{}", name, output));
+    link.resize(first);
+    link.push_back(archive);
+  }
+  if (any_cxx) link[0] = toolchain.cxx_compiler;
+  link.insert(link.end(), libraries.begin(), libraries.end());
+  link.insert(link.end(), toolchain.link_flags.begin(), toolchain.link_flags.end());
+  link.insert(link.end(), {"-o", (staged / "firmware").string()});
+  const ProcessResult linked = run_process(link);
+  output += linked.output;
+  if (!linked.ok) throw FirmwareBuildError(fmt::format("firmware '{}' failed to build:\n{}", name, output));
+}
+
 std::string getenv_or_empty(const char* name) {
   const char* value = std::getenv(name);
   return value ? value : "";
@@ -335,6 +362,7 @@ std::string build_firmware(const std::string& name, const std::vector<std::strin
   base.field(toolchain.cxx_compiler);
   base.field(toolchain.c_std);
   base.field(toolchain.cxx_std);
+  base.field(toolchain.compile_only ? "compile only" : "link");
   const ProcessResult version = run_process({toolchain.compiler, "--version"});
   if (!version.ok) {
     throw FirmwareBuildError(fmt::format("cannot run the C compiler '{}' (set $CC to the compiler to use):\n{}",
@@ -395,7 +423,7 @@ std::string build_firmware(const std::string& name, const std::vector<std::strin
   std::string dependencies_text;
   bool any_cxx = false;
   const std::size_t own_sources = source_paths.size() - toolchain.extra_sources.size();
-  for (std::size_t i = 0; i < source_paths.size(); ++i) {
+  for (std::size_t i = 0; i < (toolchain.compile_only ? own_sources : source_paths.size()); ++i) {
     const std::string object = (scratch.path() / fmt::format("{}.o", i)).string();
     const std::string dep_file = (scratch.path() / fmt::format("{}.d", i)).string();
     // .cpp, .cc and .cxx are C++; the extra sources (the AVR HAL) keep the toolchain's own C.
@@ -414,33 +442,19 @@ std::string build_firmware(const std::string& name, const std::vector<std::strin
     if (result.ok) dependencies_text += read_file(dep_file).value_or("") + "\n";
   }
   if (!compiled) throw FirmwareBuildError(fmt::format("firmware '{}' failed to build:\n{}", name, output));
-
-  if (!toolchain.archiver.empty() && !toolchain.extra_sources.empty()) {
-    // The extra sources (a HAL) become an archive, so that only the parts a firmware uses are
-    // linked: a register-level firmware's own ISR() must not meet the HAL's for the same vector.
-    const std::size_t first = link.size() - toolchain.extra_sources.size();
-    const std::string archive = (scratch.path() / "hal.a").string();
-    std::vector<std::string> ar{toolchain.archiver, "rcs", archive};
-    ar.insert(ar.end(), link.begin() + static_cast<std::ptrdiff_t>(first), link.end());
-    const ProcessResult archived = run_process(ar);
-    output += archived.output;
-    if (!archived.ok) throw FirmwareBuildError(fmt::format("firmware '{}' failed to build:\n{}", name, output));
-    link.resize(first);
-    link.push_back(archive);
-  }
-  if (any_cxx) link[0] = toolchain.cxx_compiler;
   const fs::path staged = scratch.path() / "staged";
   fs::create_directory(staged, error);
-  link.insert(link.end(), libraries.begin(), libraries.end());
-  link.insert(link.end(), toolchain.link_flags.begin(), toolchain.link_flags.end());
-  link.insert(link.end(), {"-o", (staged / "firmware").string()});
-  const ProcessResult linked = run_process(link);
-  output += linked.output;
-  if (!linked.ok) throw FirmwareBuildError(fmt::format("firmware '{}' failed to build:\n{}", name, output));
-  {
-    std::ofstream out(staged / "firmware.d", std::ios::binary);
-    out << dependencies_text;
-    if (!out) throw FirmwareBuildError(fmt::format("{}: error: cannot write", (staged / "firmware.d").string()));
+  if (toolchain.compile_only) {
+    std::ofstream stamp(staged / "firmware", std::ios::binary);
+    if (!stamp) throw FirmwareBuildError(fmt::format("{}: error: cannot write", (staged / "firmware").string()));
+  } else {
+    link_firmware(name, toolchain, link, libraries, any_cxx, scratch.path(), staged, output);
+  }
+  // What the compiler said stays with the executable, for cached_compiler_output().
+  for (const auto& [file, text] : {std::pair{"firmware.d", &dependencies_text}, std::pair{"compiler.txt", &output}}) {
+    std::ofstream out(staged / file, std::ios::binary);
+    out << *text;
+    if (!out) throw FirmwareBuildError(fmt::format("{}: error: cannot write", (staged / file).string()));
   }
 
   // The key directory appears whole, in one rename, or not at all.
@@ -459,6 +473,11 @@ std::string build_firmware(const std::string& name, const std::vector<std::strin
   write_atomically(pointer, key, scratch.path());
   if (compiler_output) *compiler_output = output;
   return (key_dir / "firmware").string();
+}
+
+std::string cached_compiler_output(const std::string& executable) {
+  if (executable.empty()) return "";
+  return read_file(fs::path(executable).parent_path() / "compiler.txt").value_or("");
 }
 
 }  // namespace sear

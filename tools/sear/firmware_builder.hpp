@@ -23,6 +23,10 @@ struct FirmwareToolchain {
   std::vector<std::string> defines, include_dirs, extra_flags;
   std::string c_std, cxx_std;  // the firmware's: c99 / c++17 unless it names others (gnu99 / gnu++17 on the AVR)
   std::string hal_c_std;       // the extra sources' C, whatever the firmware's
+  // Compile the firmware's own sources and stop: a check of what the compiler says, whose cached
+  // "firmware" is an empty stamp. The extra sources are neither compiled nor linked, but their
+  // folders stay on the include path, so the flags are the full build's.
+  bool compile_only = false;
 };
 
 // what(): a first line naming the firmware, then the compiler's messages verbatim (they carry file:line).
@@ -51,5 +55,9 @@ FirmwareToolchain avr_toolchain(std::string hal_include_dir, const std::string& 
 // what the compiler said on a successful build (its warnings); it is left empty when nothing was built.
 std::string build_firmware(const std::string& name, const std::vector<std::string>& sources,
                            const FirmwareToolchain& toolchain, std::string* compiler_output = nullptr);
+
+// What the compiler said when it built the executable build_firmware() returned (its warnings),
+// kept beside it in the cache: the same text on every run, whether or not this one compiled.
+std::string cached_compiler_output(const std::string& executable);
 
 }  // namespace sear

@@ -82,6 +82,34 @@ void add_library_sources(const fs::path& include_path, std::vector<std::string>&
       if (entry.is_regular_file() && is_source(entry.path())) sources.push_back(entry.path().string());
 }
 
+std::string env_or(const char* name, const char* otherwise) {
+  const char* value = std::getenv(name);
+  return value && *value ? value : otherwise;
+}
+
+// The IDE's compile of the sketch for the Mega 2560 (Debian's platform.txt and boards.txt: the
+// recipe's defines and flags, with -Wall as the host build has it), its core and variant first on
+// the include path as arduino-builder resolved them. DECIMAL_DIG as hal/arduino/CMakeLists.txt says.
+SketchChipBuild chip_build(const SketchToolchain& toolchain, const std::string& folder,
+                           const std::vector<std::string>& sources, const std::vector<std::string>& include_paths) {
+  SketchChipBuild chip;
+  chip.sources = sources;
+  FirmwareToolchain& t = chip.toolchain;
+  t.compiler = env_or("AVR_CC", "avr-gcc");
+  t.cxx_compiler = env_or("AVR_CXX", "avr-g++");
+  t.c_std = t.hal_c_std = "gnu11";
+  t.cxx_std = "gnu++11";
+  t.hal_include_dir = toolchain.core_dir;
+  t.cache_dir = toolchain.firmware.cache_dir;
+  t.compile_only = true;
+  t.compile_flags = {"-mmcu=atmega2560", "-DF_CPU=16000000L", "-DARDUINO=10807", "-DARDUINO_AVR_MEGA2560",
+                     "-DARDUINO_ARCH_AVR", "-DDECIMAL_DIG=__DECIMAL_DIG__", "-Os", "-g", "-Wall", "-fpermissive",
+                     "-fno-exceptions", "-fno-threadsafe-statics", "-Wno-error=narrowing"};
+  for (const auto& include : include_paths) t.compile_flags.push_back("-I" + include);
+  t.compile_flags.push_back("-I" + folder);
+  return chip;
+}
+
 }  // namespace
 
 std::string sketch_folder(const std::string& path) {
@@ -116,7 +144,7 @@ SketchToolchain default_sketch_toolchain() {
 }
 
 std::string build_sketch(const std::string& name, const std::string& path, const std::vector<std::string>& library_dirs,
-                         const SketchToolchain& toolchain, std::string* compiler_output) {
+                         const SketchToolchain& toolchain, std::string* compiler_output, SketchChipBuild* chip) {
   const std::string folder = sketch_folder(path);
   const std::string sketch_name = fs::path(folder).filename().string();
   const std::string work = work_dir(toolchain, folder);
@@ -141,6 +169,8 @@ std::string build_sketch(const std::string& name, const std::string& path, const
   for (const auto& entry : fs::directory_iterator(fs::path(work) / "sketch", error))
     if (entry.is_regular_file() && is_source(entry.path())) sources.push_back(entry.path().string());
   std::sort(sources.begin(), sources.end());
+
+  if (chip) *chip = chip_build(toolchain, folder, sources, resolved_include_paths(work));
 
   // Libraries: each resolved folder outside Debian's hardware (whose core and AVR libraries the
   // layer replaces) and outside the layer's own (built into it) is compiled with the sketch.

@@ -32,10 +32,21 @@ SketchToolchain default_sketch_toolchain();
 // Throws FirmwareBuildError naming the path when it is neither.
 std::string sketch_folder(const std::string& path);
 
+// What compiles the sketch for the ATmega2560 as the IDE does (chip_check.hpp): its own preprocessed
+// files, against Debian's genuine AVR core and the libraries arduino-builder resolved, with avr-g++
+// ($AVR_CXX; C files with $AVR_CC), the IDE's flags and -Wall, compile only.
+struct SketchChipBuild {
+  std::vector<std::string> sources;
+  FirmwareToolchain toolchain;
+};
+
 // The executable built from the sketch at `path` (folder or .ino), searching `library_dirs` (and
 // libraries/ beside the sketch) for the libraries it includes, as the IDE does. A library under
 // Debian's AVR hardware folder (Wire, SPI, EEPROM, SoftwareSerial) is the layer's own instead.
+// `chip`, when given, receives the sketch's ATmega2560 compile; its sources stay until the next
+// build of the same sketch.
 std::string build_sketch(const std::string& name, const std::string& path, const std::vector<std::string>& library_dirs,
-                         const SketchToolchain& toolchain, std::string* compiler_output = nullptr);
+                         const SketchToolchain& toolchain, std::string* compiler_output = nullptr,
+                         SketchChipBuild* chip = nullptr);
 
 }  // namespace sear
