@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #define SEAR_LINK_MAGIC 0x52414553u /* "SEAR" little-endian */
-#define SEAR_LINK_VERSION 6u
+#define SEAR_LINK_VERSION 7u
 /* Guards at both ends of the firmware's writable part: a stray write that runs over them is seen
  * at the next turn even when every value it hit still looks plausible. */
 #define SEAR_LINK_GUARD 0x5EA75EA75EA75EA7ull
@@ -230,6 +230,11 @@ struct sear_link {
   uint32_t last_call; /* enum sear_call */
   int32_t exit_code;
   char fatal[192];
+  /* An engine that counts the chip's cycles (the AVR engine) writes, at the end of each quantum,
+   * the cycles run so far and how many of them were busy (not asleep); the native engine cannot
+   * tell and leaves both 0. */
+  uint64_t chip_cycles;
+  uint64_t chip_busy_cycles;
 
   /* Written by the firmware during its quantum, emptied by the simulator at its turn. */
   uint32_t event_count;

@@ -409,6 +409,34 @@ class ViewRun(unittest.TestCase):
         for i, t in enumerate(times):
             self.assertAlmostEqual(t, i * 0.05, delta=1e-9)
 
+    def test_an_avr_mcu_shows_its_cpu_load_and_a_native_one_none(self):
+        firmware = os.path.join(os.path.dirname(os.path.abspath(__file__)), "avr", "firmware", "timer1_sleep.c")
+        p = os.path.join(self.dir, "avr.xml")
+        with open(p, "w") as f:
+            f.write(project(0.5).replace(
+                '<robot name="driver" file="{0}"><pose x="0" y="0"/></robot>'.format(
+                    os.path.join(ASSETS, "robots", "rover.xml")),
+                '<robot name="driver" file="{0}"><pose x="0" y="0"/><mcu name="main" engine="avr">'
+                '<firmware sources="{1}"/></mcu></robot>'.format(os.path.join(ASSETS, "robots", "rover.xml"),
+                                                                  firmware)))
+        run = subprocess.run([SEAR, "run", p, "-q", "-o", "out", "--replay", "r.gz", "--replay-rate", "20"],
+                             cwd=self.dir, stderr=subprocess.PIPE, text=True)
+        self.assertEqual(run.returncode, 0, run.stderr)
+        frames = [json.loads(line) for line in gzip.decompress(read_bytes(os.path.join(self.dir, "r.gz"))).decode()
+                  .splitlines()[2:]]
+        loads = {m["id"]: [] for m in frames[-1]["mcus"]}
+        for frame in frames:
+            for m in frame["mcus"]:
+                loads[m["id"]].append((frame["t"], m["cpu_load"]))
+        # The native engine cannot tell.
+        self.assertTrue(all(load is None for _, load in loads["probe.main"]), loads["probe.main"])
+        # The chip sleeps but for the timer's ISR, once every 16000 cycles: entry, a prologue and
+        # epilogue of a few pushes and pops, one store, RETI, well under 80 cycles, so under 0.5 %
+        # busy and never 0. A load is shown once its first 100 ms window is over.
+        avr = [load for t, load in loads["driver.main"] if t >= 0.1 + 1e-9]
+        self.assertTrue(avr and all(load is not None and 0 < load < 0.005 for load in avr), loads["driver.main"])
+        self.assertTrue(all(load is None for t, load in loads["driver.main"] if t < 0.1 - 1e-9))
+
     def test_view_replay_serves_the_file_and_refuses_what_is_not_one(self):
         p = self.project_file(0.5)
         subprocess.run([SEAR, "run", p, "-q", "-o", "o", "--replay", "r.gz"], cwd=self.dir, check=True)

@@ -359,6 +359,8 @@ int main(int argc, char **argv) {
      * engine is stopped without warning, so it is kept nearly current at little cost. */
     if (++quanta % 10 == 0) avr_profile_write();
     link->clock_ns = engine.quantum_end_ns;
+    link->chip_cycles = engine.avr->cycle;
+    link->chip_busy_cycles = avr_profile_busy_cycles();
     hand_over(SEAR_REQUEST_QUANTUM_DONE);
   }
 }

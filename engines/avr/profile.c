@@ -96,6 +96,10 @@ void avr_profile_init(const char *path, const struct elf_firmware_t *firmware) {
 
 void avr_profile_sleep(uint64_t cycles) { sleep_cycles += cycles; }
 
+uint64_t avr_profile_busy_cycles(void) {
+  return engine.avr->cycle > sleep_cycles ? engine.avr->cycle - sleep_cycles : 0;
+}
+
 struct function_total {
   const char *name;
   uint64_t cycles;
@@ -108,7 +112,7 @@ void avr_profile_write(void) {
 #define OUT(...) n += (size_t)snprintf(text + n, n < sizeof text ? sizeof text - n : 0, __VA_ARGS__)
   const avr_t *avr = engine.avr;
   const uint64_t cycles = avr->cycle;
-  const uint64_t busy = cycles > sleep_cycles ? cycles - sleep_cycles : 0;
+  const uint64_t busy = avr_profile_busy_cycles();
   OUT("{\n  \"engine\": \"avr\",\n  \"clock_hz\": %" PRIu64 ",\n  \"cycles\": %" PRIu64 ",\n  \"busy_cycles\": %" PRIu64
       ",\n  \"cpu_load\": %.6f,\n  \"isrs\": [",
       engine.clock_hz, cycles, busy, cycles ? (double)busy / (double)cycles : 0.0);

@@ -16,6 +16,8 @@ void avr_profile_init(const char *path, const struct elf_firmware_t *firmware);
 static inline void avr_profile_count(uint32_t pc, uint64_t cycles);
 /* The chip slept this many cycles. */
 void avr_profile_sleep(uint64_t cycles);
+/* The cycles so far that the chip was not asleep. */
+uint64_t avr_profile_busy_cycles(void);
 /* Rewrites the report (cheap enough to call every few quanta; the simulator kills the engine
  * without warning, so the file must be current at any quantum's end). */
 void avr_profile_write(void);

@@ -276,6 +276,7 @@ bool McuBridge::take_readings() {
     if (got > 0 && tap_)
       tap_->on_reading(index_, input_device_[i], r.time_ns, r.value, sear_link_reading_values(inputs_[i].kind));
   }
+  if (tap_ && link.chip_cycles) tap_->on_chip_cycles(index_, link.chip_cycles, link.chip_busy_cycles);
   return true;
 }
 

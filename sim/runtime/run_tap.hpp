@@ -27,6 +27,9 @@ class RunTap {
   // tools/lcm/reading_meaning.hpp names them per element. Told after each quantum in which it changed.
   virtual void on_reading(std::size_t /*mcu*/, std::size_t /*device*/, std::int64_t /*time_ns*/,
                           const double* /*values*/, std::size_t /*count*/) {}
+  // An MCU whose engine counts the chip's cycles (the AVR engine): its cycles so far and how many
+  // were busy, told after each of its quanta.
+  virtual void on_chip_cycles(std::size_t /*mcu*/, std::uint64_t /*cycles*/, std::uint64_t /*busy*/) {}
   // Bytes a UART device put on its wire (`from_device`) or that reached it, in time order.
   virtual void on_wire_bytes(std::size_t /*mcu*/, std::size_t /*device*/, bool /*from_device*/,
                              const serial_byte* /*bytes*/, std::size_t /*count*/) {}
@@ -54,6 +57,9 @@ class RunTaps final : public RunTap {
   void on_reading(std::size_t mcu, std::size_t device, std::int64_t time_ns, const double* values,
                   std::size_t count) override {
     for (RunTap* t : taps_) t->on_reading(mcu, device, time_ns, values, count);
+  }
+  void on_chip_cycles(std::size_t mcu, std::uint64_t cycles, std::uint64_t busy) override {
+    for (RunTap* t : taps_) t->on_chip_cycles(mcu, cycles, busy);
   }
   void on_wire_bytes(std::size_t mcu, std::size_t device, bool from_device, const serial_byte* bytes,
                      std::size_t count) override {

@@ -27,7 +27,11 @@ Json number_or_null(double v) { return std::isfinite(v) ? Json(round_sig(v)) : J
 }  // namespace
 
 McuPanel::McuPanel(const McuDesc& desc, std::string id, int index)
-    : id_(std::move(id)), index_(index), console_uart_(desc.console_uart), can_bus_(desc.can_bus) {
+    : id_(std::move(id)),
+      index_(index),
+      console_uart_(desc.console_uart),
+      can_bus_(desc.can_bus),
+      clock_hz_(desc.clock_hz) {
   for (const DeviceDesc& d : desc.devices) {
     PanelDevice p;
     p.name = d.name;
@@ -44,6 +48,8 @@ McuPanel::McuPanel(const McuDesc& desc, std::string id, int index)
 }
 
 void McuPanel::reset() {
+  window_cycles_ = window_busy_ = 0;
+  cpu_load_ = -1;
   pins_.clear();
   pwm_.clear();
   servo_.clear();
@@ -140,9 +146,20 @@ void McuPanel::on_wire_bytes(std::size_t device, bool from_device, const serial_
   }
 }
 
+// A load over whole windows of the chip's time, so that it reads the same whatever the frame rate.
+void McuPanel::on_chip_cycles(std::uint64_t cycles, std::uint64_t busy) {
+  const double window = 0.1 * clock_hz_;
+  if (cycles < window_cycles_ || busy < window_busy_) window_cycles_ = window_busy_ = 0;  // a reset
+  if (static_cast<double>(cycles - window_cycles_) < window) return;
+  cpu_load_ = static_cast<double>(busy - window_busy_) / static_cast<double>(cycles - window_cycles_);
+  window_cycles_ = cycles;
+  window_busy_ = busy;
+}
+
 void McuPanel::put_state(Json& out) const {
   out["running"] = stopped_.empty();
   out["stopped"] = stopped_.empty() ? Json() : Json(stopped_);
+  out["cpu_load"] = cpu_load_ < 0 ? Json() : Json(std::round(cpu_load_ * 1e4) / 1e4);
   Json pins = Json::object(), pwm = Json::object(), servo = Json::object();
   for (const auto& [pin, level] : pins_) pins[std::to_string(pin)] = level;
   for (const auto& [pin, duty] : pwm_) pwm[std::to_string(pin)] = duty;

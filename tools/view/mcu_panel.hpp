@@ -46,13 +46,16 @@ class McuPanel {
   void on_reading(std::size_t device, const double* values, std::size_t count);
   void on_wire_bytes(std::size_t device, bool from_device, const serial_byte* bytes, std::size_t count, LogRing& log);
   void stopped(const std::string& why) { stopped_ = why; }
+  // The chip's cycles so far and how many were busy (an engine that counts them: the AVR's).
+  void on_chip_cycles(std::uint64_t cycles, std::uint64_t busy);
   // Not watching: UART traffic is neither decoded nor logged (console lines, levels, samples and
   // readings still are: they cost little). Watching again, each UART stream resumes at its next
   // message boundary ('$', STX) so that no torn message shows.
   void set_watching(bool watching);
   void reset();
 
-  // "running", "stopped", "pins", "pwm", "servo", "readings", "truth" into `out`.
+  // "running", "stopped", "cpu_load" (the busy share of the chip's last 100 ms, null where the
+  // engine cannot tell), "pins", "pwm", "servo", "readings", "truth" into `out`.
   void put_state(nlohmann::ordered_json& out) const;
 
  private:
@@ -64,6 +67,9 @@ class McuPanel {
   std::map<int, int> pins_, pwm_, servo_;
   std::string console_;           // the line being printed
   std::string stopped_;           // empty: running
+  double clock_hz_;
+  std::uint64_t window_cycles_ = 0, window_busy_ = 0;  // where the load's window began
+  double cpu_load_ = -1;                                // the last whole window's; < 0: none yet
   bool watching_ = true;
   std::vector<LogEntry> decoded_;  // scratch for UART streams
 };

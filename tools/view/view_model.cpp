@@ -195,6 +195,10 @@ void ViewModel::on_mcu_event(std::size_t mcu, const sear_event& event) {
   if (mcu < s_->panels.size()) s_->panels[mcu].on_event(event, s_->log);
 }
 
+void ViewModel::on_chip_cycles(std::size_t mcu, std::uint64_t cycles, std::uint64_t busy) {
+  if (mcu < s_->panels.size()) s_->panels[mcu].on_chip_cycles(cycles, busy);
+}
+
 void ViewModel::on_sample(std::size_t mcu, std::size_t device, const sear_link_sample& sample) {
   if (mcu < s_->panels.size()) s_->panels[mcu].on_sample(device, sample);
 }

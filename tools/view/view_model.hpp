@@ -60,6 +60,7 @@ class ViewModel final : public RunTap {
 
   void on_mcu_event(std::size_t mcu, const sear_event& event) override;
   void on_sample(std::size_t mcu, std::size_t device, const sear_link_sample& sample) override;
+  void on_chip_cycles(std::size_t mcu, std::uint64_t cycles, std::uint64_t busy) override;
   void on_reading(std::size_t mcu, std::size_t device, std::int64_t time_ns, const double* values,
                   std::size_t count) override;
   void on_wire_bytes(std::size_t mcu, std::size_t device, bool from_device, const serial_byte* bytes,

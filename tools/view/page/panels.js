@@ -134,6 +134,7 @@ var SEAR = window.SEAR || (window.SEAR = {});
     var waiting = SEAR.view && SEAR.view.waiting;
     this.state.textContent = (m.running ? (waiting ? " ready, waiting for Start" : " running")
                                         : " stopped" + (m.stopped ? ": " + m.stopped : "")) +
+                             (typeof m.cpu_load === "number" ? " · CPU " + (100 * m.cpu_load).toFixed(1) + " %" : "") +
                              (this.dropped ? " · " + this.dropped + " log entries dropped" : "");
     this.state.className = "mcu-state " + (m.running ? "ok" : "bad");
     var pins = this.pins;
