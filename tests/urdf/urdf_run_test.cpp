@@ -13,6 +13,7 @@
 #include "../temp_dir.hpp"
 #include "../test_world.hpp"
 #include "scene/project_loader.hpp"
+#include "urdf_files.hpp"
 
 namespace sear::test {
 namespace {
@@ -143,6 +144,84 @@ TEST(UrdfRun, CheckPrintsEachMeshExtentInMetres) {
   EXPECT_NE(out.out.find("left_wheel collision package://diffbot/meshes/diffbot/wheel.stl: 0.09 x 0.025 x 0.09 m"),
             std::string::npos)
       << out.out;
+}
+
+// A ball caster's link: a sphere of `radius` whose centre is `z` below base_link, `x` ahead of it.
+std::string caster_xml(double x, double z, double radius = 0.01) {
+  return fmt::format(R"(
+  <link name="caster">
+    <collision><geometry><sphere radius="{2}"/></geometry></collision>
+  </link>
+  <joint name="caster_joint" type="fixed">
+    <parent link="base_link"/><child link="caster"/><origin xyz="{0} 0 {1}"/>
+  </joint>)",
+                     x, -z, radius);
+}
+
+// A small robot whose URDF draws two import warnings: an rpy written short of pi/2 (snapped), and a
+// fixed skid box down on the ground the wheels stand on (it drags).
+const std::string kWarnedUrdf = R"(<?xml version="1.0"?>
+<robot name="warned">
+  <link name="base_link">
+    <collision><geometry><box size="0.2 0.12 0.04"/></geometry></collision>
+    <inertial><mass value="1.0"/><inertia ixx="0.0015" ixy="0" ixz="0" iyy="0.0035" iyz="0" izz="0.0045"/></inertial>
+  </link>
+  <link name="skid">
+    <collision><origin rpy="0 0 1.5708"/><geometry><box size="0.02 0.02 0.03"/></geometry></collision>
+  </link>
+  <joint name="skid_joint" type="fixed">
+    <parent link="base_link"/><child link="skid"/><origin xyz="-0.08 0 -0.03"/>
+  </joint>)" + wheel_xml("left", 0.08) + wheel_xml("right", -0.08) + caster_xml(0.08, 0.035) + R"(
+</robot>
+)";
+
+std::string warned_project() {
+  return project_xml("", "", R"(
+  <robot name="warned" urdf="robot.urdf">
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster"/>
+  </robot>)");
+}
+
+// `sear run` prints the import's warnings once, before the run, as `sear check` does, and keeps
+// them in the summary.
+TEST(UrdfRun, RunPrintsTheImportWarningsOnceAndKeepsThemInTheSummary) {
+  TempDir dir;
+  write_text(dir.path() / "robot.urdf", kWarnedUrdf);
+  write_text(dir.path() / "project.xml", warned_project());
+  const std::string urdf = (dir.path() / "robot.urdf").string();
+  const std::string snapped = fmt::format("{}:{}: warning: rpy=\"0 0 1.5708\" is within", urdf,
+                                          line_of(kWarnedUrdf, "rpy=\"0 0 1.5708\""));
+  const std::string drags = fmt::format("{}:{}: warning: link 'skid': its collision shape reaches down to the ground",
+                                        urdf, line_of(kWarnedUrdf, "<collision><origin rpy=\"0 0 1.5708\""));
+  const auto out = dir.path() / "run";
+  // stderr alone (stdout, the summary, to /dev/null): the warnings go where errors go.
+  const CommandOutput run = command_output(std::string(SEAR_BINARY) + " run " + (dir.path() / "project.xml").string() +
+                                           " -d 0.05 --no-plots -o " + out.string() + " 2>&1 >/dev/null");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  for (const std::string& warning : {snapped, drags}) {
+    const auto first = run.out.find(warning);
+    EXPECT_NE(first, std::string::npos) << warning << "\n" << run.out;
+    EXPECT_EQ(run.out.find(warning, first + 1), std::string::npos) << "printed twice: " << warning << "\n" << run.out;
+  }
+  const CommandOutput check =
+      command_output(std::string(SEAR_BINARY) + " check " + (dir.path() / "project.xml").string() + " 2>&1 >/dev/null");
+  ASSERT_EQ(check.exit_code, 0) << check.out;
+  EXPECT_NE(check.out.find(snapped), std::string::npos) << check.out;
+  EXPECT_NE(check.out.find(drags), std::string::npos) << check.out;
+
+  std::ifstream in(out / "summary.json");
+  const auto summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["import_warnings"].size(), 2u) << summary["import_warnings"].dump(2);
+  EXPECT_EQ(summary["import_warnings"][0]["file"], urdf);
+  EXPECT_EQ(summary["import_warnings"][0]["line"], line_of(kWarnedUrdf, "rpy=\"0 0 1.5708\""));
+  EXPECT_NE(summary["import_warnings"][1]["text"].get<std::string>().find("will slide over the floor"), std::string::npos);
+  std::ifstream text_in(out / "summary.txt");
+  const std::string text(std::istreambuf_iterator<char>(text_in), {});
+  EXPECT_NE(text.find(fmt::format("  import warning: {}:{}: rpy=", urdf, line_of(kWarnedUrdf, "rpy=\"0 0 1.5708\""))),
+            std::string::npos)
+      << text;
 }
 
 // The avoider, unmodified, drives the imported robot through the avoider's own scenario.

@@ -66,6 +66,7 @@ int cross_check_command(const RunOptions& options);
 int view_replay_command(const std::string& file, const std::string& bind, int port);
 
 struct ProjectDesc;
+struct SourceRef;
 // Builds the firmware of every MCU that names C sources (cached) and records the executable in its
 // description. Throws FirmwareBuildError with the compiler's messages.
 void build_project_firmware(ProjectDesc& project, bool quiet);
@@ -74,6 +75,8 @@ int check_command(const std::string& project);
 // (one object per kind, for tools) or as README's Markdown reference.
 enum class SensorsFormat { Text, Json, Markdown };
 int sensors_command(SensorsFormat format);
+// Prints each URDF robot's import warnings ("file:line: warning: ...") on stderr, and returns them.
+std::vector<std::pair<SourceRef, std::string>> print_import_warnings(const ProjectDesc& project);
 // Prints the world-building errors in `text` (one per line), the first hundred and a count, as
 // the loader's; returns how many there were.
 std::size_t print_world_errors(const std::string& path, const std::string& text);

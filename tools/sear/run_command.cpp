@@ -131,6 +131,8 @@ int run_command(const RunOptions& options) {
     fmt::print(stderr, "{}", diagnostics.joined());
     return 1;
   }
+  // Once, before the run starts (a reset does not load again), and into the summary.
+  const auto import_warnings = print_import_warnings(*project);
   if (options.timeout_s) scenario->timeout_ns = std::llround(*options.timeout_s * 1e9);
   const bool expecting = !scenario->expectations.empty();
   // With expectations the run lasts until their timeout, unless told otherwise.
@@ -402,6 +404,7 @@ int run_command(const RunOptions& options) {
     // Once, at the end, where the user looks: a run that completed can still have been useless.
     for (const auto& note : outcome.wiring)
       fmt::print(stderr, "sear: {}: {}\n", note.kind == WiringNote::Kind::Unused ? "wiring" : "note", note.text);
+    outcome.import_warnings = import_warnings;
     outcome.project_file = path;
     outcome.project_name = project->name;
     outcome.seed = project->run.seed;
