@@ -151,8 +151,8 @@ std::string resolve_mesh(const std::string& uri, const std::string& urdf_path, c
          dir = dir.parent_path())
       if (dir.filename() == name) return (dir / inside).string();
     problem = fmt::format("mesh '{}' is in package '{}', which is not known: give <package name=\"{}\" dir=\"...\"/> "
-                          "in the robot's mapping",
-                          uri, name, name);
+                          "in the robot's mapping, or --package {}=DIR on the command line",
+                          uri, name, name, name);
     return "";
   }
   if (uri.rfind("file://", 0) == 0) return uri.substr(7);
@@ -757,7 +757,7 @@ bool expand_urdf_text(std::string& text, const std::string& path, const std::map
                         fmt::format("unexpanded xacro expression '{}': xacro is not available in Debian 12, so SEAR "
                                     "reads only expanded URDF; expand it where xacro is installed (xacro "
                                     "robot.urdf.xacro > robot.urdf), or, for a plain name, give <arg name=\"...\" "
-                                    "value=\"...\"/> in the robot's mapping",
+                                    "value=\"...\"/> in the robot's mapping or --arg NAME=VALUE on the command line",
                                     expr));
       ok = false;
       ++reported;

@@ -152,7 +152,7 @@ void place_devices(const Mapping& mapping, const UrdfRobot& urdf, Diagnostics& d
 }  // namespace
 
 bool read_urdf_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
-                     WorldDesc& world, RobotDesc& robot) {
+                     WorldDesc& world, RobotDesc& robot, const UrdfOverrides& overrides) {
   ElementReader r(&element, file, diagnostics);
   robot.source = {file, r.line()};
   robot.parts_source = robot.source;
@@ -211,6 +211,8 @@ bool read_urdf_robot(const tinyxml2::XMLElement& element, const std::string& fil
   r.finish();
   if (urdf_relative.empty() || !check_readable_file(r, "URDF", urdf_relative, urdf_path)) return false;
 
+  for (const auto& [name, dir] : overrides.packages) mapping.urdf.packages[name] = dir;
+  for (const auto& [name, value] : overrides.args) mapping.urdf.args[name] = value;
   UrdfRobot urdf;
   if (!import_urdf(urdf_path, mapping.urdf, diagnostics, urdf)) return false;
   if (robot.name.empty()) robot.name = urdf.name;

@@ -224,6 +224,92 @@ TEST(UrdfRun, RunPrintsTheImportWarningsOnceAndKeepsThemInTheSummary) {
       << text;
 }
 
+// A robot whose body mesh is in package 'foo' and whose name takes ${namespace}, as a launch file
+// would fill them in: the project says neither, the command line does.
+const std::string kPackagedUrdf = R"(<?xml version="1.0"?>
+<robot name="${namespace}bot">
+  <link name="base_link">
+    <visual><geometry><mesh filename="package://foo/meshes/body.stl"/></geometry></visual>
+    <collision><geometry><box size="0.2 0.12 0.04"/></geometry></collision>
+    <inertial><mass value="1.0"/><inertia ixx="0.0015" ixy="0" ixz="0" iyy="0.0035" iyz="0" izz="0.0045"/></inertial>
+  </link>)" + wheel_xml("left", 0.08) + wheel_xml("right", -0.08) + caster_xml(-0.08, 0.035) + R"(
+</robot>
+)";
+
+TEST(UrdfRun, PackageAndArgOnTheCommandLineFillWhatTheProjectLeavesOut) {
+  TempDir dir;
+  write_text(dir.path() / "robot.urdf", kPackagedUrdf);
+  write_text(dir.path() / "pkg/meshes/body.stl", box_stl(0.2, 0.12, 0.04));
+  write_text(dir.path() / "project.xml", project_xml("", "", R"(
+  <robot urdf="robot.urdf">
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster"/>
+  </robot>)"));
+  const std::string urdf = (dir.path() / "robot.urdf").string();
+  const std::string project = (dir.path() / "project.xml").string();
+  const std::string pkg = (dir.path() / "pkg").string();
+  const auto sear = [&](const std::string& args) { return command_output(std::string(SEAR_BINARY) + " " + args + " 2>&1"); };
+
+  // Neither given: the unexpanded name is refused at its line, naming --arg.
+  CommandOutput out = sear("check " + project);
+  EXPECT_EQ(out.exit_code, 1) << out.out;
+  EXPECT_NE(out.out.find(urdf + ":2: error: unexpanded xacro expression '${namespace}'"), std::string::npos) << out.out;
+  EXPECT_NE(out.out.find("--arg NAME=VALUE"), std::string::npos) << out.out;
+  // The name given, the package not: the mesh is refused at its line, naming --package.
+  out = sear("check " + project + " --arg namespace=my_");
+  EXPECT_EQ(out.exit_code, 1) << out.out;
+  EXPECT_NE(out.out.find(urdf + ":4: error: link 'base_link': mesh 'package://foo/meshes/body.stl' is in package 'foo', "
+                                "which is not known"),
+            std::string::npos)
+      << out.out;
+  EXPECT_NE(out.out.find("--package foo=DIR"), std::string::npos) << out.out;
+  // Both: the robot is named from the argument, its mesh found in the folder.
+  out = sear("check " + project + " --arg namespace=my_ --package foo=" + pkg);
+  EXPECT_EQ(out.exit_code, 0) << out.out;
+  EXPECT_NE(out.out.find("robot 'my_bot' from " + urdf), std::string::npos) << out.out;
+  EXPECT_NE(out.out.find("base_link visual package://foo/meshes/body.stl: 0.2 x 0.12 x 0.04 m"), std::string::npos)
+      << out.out;
+  // The command line wins over the project's own <arg> and <package>.
+  std::string xml = project_xml("", "", R"(
+  <robot urdf="robot.urdf">
+    <arg name="namespace" value="project_"/>
+    <package name="foo" dir="nowhere"/>
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster"/>
+  </robot>)");
+  write_text(dir.path() / "own.xml", xml);
+  out = sear("check " + (dir.path() / "own.xml").string());
+  EXPECT_EQ(out.exit_code, 1) << out.out;  // its own package folder holds no mesh
+  out = sear("check " + (dir.path() / "own.xml").string() + " --arg namespace=my_ --package foo=" + pkg);
+  EXPECT_EQ(out.exit_code, 0) << out.out;
+  EXPECT_NE(out.out.find("robot 'my_bot' from " + urdf), std::string::npos) << out.out;
+  // `sear run` takes them alike (a run of 10 ms).
+  out = sear("run " + project + " -d 0.01 --no-plots -q -o " + (dir.path() / "run").string() +
+             " --arg namespace=my_ --package foo=" + pkg);
+  EXPECT_EQ(out.exit_code, 0) << out.out;
+  {
+    std::ifstream in(dir.path() / "run/summary.json");
+    EXPECT_EQ(nlohmann::json::parse(in)["robots"][0]["name"], "my_bot");
+  }
+
+  // Malformed values are refused by the option's name, before anything is loaded.
+  const std::pair<std::string, std::string> bad[] = {
+      {"--package foo", "--package expects NAME=DIR, got 'foo' (no '=')"},
+      {"--package =" + pkg, "--package expects NAME=DIR, got '=" + pkg + "' (the name is empty)"},
+      {"--package foo=" + pkg + "/nowhere", "--package foo=" + pkg + "/nowhere: folder '" + pkg + "/nowhere' does not exist"},
+      {"--package foo=" + pkg + "/meshes/body.stl", "is not a folder"},
+      {"--arg namespace", "--arg expects NAME=VALUE, got 'namespace' (no '=')"},
+  };
+  for (const auto& [args, message] : bad)
+    for (const char* command : {"check ", "run "}) {
+      out = sear(command + project + " " + args);
+      EXPECT_NE(out.exit_code, 0) << command << args;
+      EXPECT_NE(out.out.find(message), std::string::npos) << command << args << "\n" << out.out;
+    }
+}
+
 // The avoider, unmodified, drives the imported robot through the avoider's own scenario.
 TEST(UrdfRun, AvoiderDrivesTheImportedRobotThroughItsScenario) {
   TempDir dir;

@@ -6,6 +6,7 @@
 #include "runtime/simulation.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
+#include "sear/urdf_options.hpp"
 
 namespace sear {
 namespace {
@@ -51,13 +52,14 @@ std::size_t print_world_errors(const std::string& path, const std::string& text)
   return placement.count();
 }
 
-int check_command(const std::string& project) {
+int check_command(const std::string& project, const std::vector<std::string>& packages,
+                  const std::vector<std::string>& args) {
   Diagnostics diagnostics;
   // A scenario names its project; a project is checked with its own <expect>, if any.
   const std::string argument = resolve_project_path(project);
   const auto scenario = load_scenario(argument, diagnostics);
   const std::string path = scenario ? scenario->project_file : argument;
-  auto loaded = scenario ? load_project(path, diagnostics) : std::nullopt;
+  auto loaded = scenario ? load_project(path, diagnostics, urdf_overrides(packages, args)) : std::nullopt;
   fmt::print(stderr, "{}", diagnostics.warnings_joined());
   if (!loaded || !check_scenario(*scenario, *loaded, diagnostics)) {
     fmt::print(stderr, "{}", diagnostics.joined());

@@ -33,6 +33,7 @@
 #include "sear/firmware_builder.hpp"
 #include "sear/host_ports.hpp"
 #include "sear/run_folder.hpp"
+#include "sear/urdf_options.hpp"
 #include "lcm/lcm_bridge.hpp"
 #include "sear/view_command.hpp"
 #include "view/replay_file.hpp"
@@ -125,7 +126,7 @@ int run_command(const RunOptions& options) {
     return 1;
   }
   const std::string path = scenario->project_file;
-  auto project = load_project(path, diagnostics);
+  auto project = load_project(path, diagnostics, urdf_overrides(options.urdf_packages, options.urdf_args));
   fmt::print(stderr, "{}", diagnostics.warnings_joined());
   if (!project || !check_scenario(*scenario, *project, diagnostics)) {
     fmt::print(stderr, "{}", diagnostics.joined());
