@@ -78,7 +78,7 @@ void read_mapping_child(const tinyxml2::XMLElement& child, const std::string& fi
     k.source = at;
     k.link = c.text("link", "");
     k.max_triangles = static_cast<std::size_t>(c.whole_number("max_triangles", 20000, kTriangles));
-    k.as_box = c.choice("replace", {"none", "box"}, 0) == 1;
+    k.replace = static_cast<UrdfMapping::Collision::Replace>(c.choice("replace", {"none", "box", "hull"}, 0));
     m.collisions.push_back(k);
   } else if (kind == "chassis") {
     m.chassis_material = read_robot_material(c, world, diagnostics);

@@ -310,6 +310,110 @@ TEST(UrdfRun, PackageAndArgOnTheCommandLineFillWhatTheProjectLeavesOut) {
     }
 }
 
+// A two-wheeled robot whose rear rests on a skid: an octahedron (corners 30 mm from its centre)
+// turned 45 degrees about x, 150 mm behind the axle. Its hull's lowest edge lies r / sqrt(2) =
+// 21.2 mm below its centre, placed to touch the ground the wheels stand on with the chassis level;
+// its bounding box, turned the same way, reaches r sqrt(2) = 42.4 mm below it, 21.2 mm lower.
+const double kSkidR = 0.03;
+const std::string kSkidUrdf = fmt::format(R"(<?xml version="1.0"?>
+<robot name="skidder">
+  <link name="base_link">
+    <collision><geometry><box size="0.2 0.12 0.04"/></geometry></collision>
+    <inertial><origin xyz="-0.04 0 0"/><mass value="1.0"/>
+      <inertia ixx="0.00133" ixy="0" ixz="0" iyy="0.00347" iyz="0" izz="0.00453"/></inertial>
+  </link>
+  <link name="skid">
+    <collision><origin rpy="0.7853981633974483 0 0"/><geometry><mesh filename="octahedron.stl"/></geometry></collision>
+  </link>
+  <joint name="skid_joint" type="fixed">
+    <parent link="base_link"/><child link="skid"/><origin xyz="-0.15 0 {:.9f}"/>
+  </joint>)", -0.045 + kSkidR / std::sqrt(2.0)) + wheel_xml("left", 0.08) + wheel_xml("right", -0.08) +
+                                  caster_xml(0.0, -0.1) + R"(
+</robot>
+)";
+
+struct Rest {
+  double pitch_rad = 0;   // the chassis's nose down, positive
+  double lowest_m = 0;    // the skid's lowest point above the ground
+  double predicted_rad = 0;
+};
+
+// The robot settled with its skid's collision `replace`d: its pitch, and the one predicted from the
+// skid's shape as imported (the pitch about the axle that puts its lowest point on the ground).
+Rest settle_on_skid(const std::string& replace) {
+  TempDir dir;
+  write_text(dir.path() / "octahedron.stl", octahedron_stl(kSkidR));
+  write_text(dir.path() / "robot.urdf", kSkidUrdf);
+  const ProjectDesc project = project_from_xml(project_xml(R"(step="0.001" solver_iterations="200")", "", R"(
+  <robot name="skidder" urdf=")" + (dir.path() / "robot.urdf").string() + R"(">
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster"/>  <!-- a differential robot needs one: this one is up in the air, 10 cm above base_link -->
+    <collision link="skid" max_triangles="4" replace=")" + replace + R"("/>
+    <motor name="left" wheels="left" stall_torque="0.6" no_load_rpm="160" gear_friction="0.02"/>
+    <motor name="right" wheels="right" stall_torque="0.6" no_load_rpm="160" gear_friction="0.02"/>
+  </robot>)"));
+  const RobotDesc& robot = project.robots[0];
+  EXPECT_EQ(robot.chassis.parts.size(), 2u);
+  const ShapeDesc& skid = robot.chassis.parts.back();
+  // Its points in the chassis frame: the hull's corners, or the box's.
+  std::vector<Eigen::Vector3d> points;
+  if (skid.kind == ShapeDesc::Kind::Mesh)
+    for (const auto& v : skid.mesh.vertices) points.push_back(skid.position_m + skid.rotation * v.cast<double>());
+  else
+    for (int k = 0; k < 8; ++k)
+      points.push_back(skid.position_m + skid.rotation * (0.5 * Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1,
+                                                                                k & 4 ? 1 : -1))
+                                                             .cwiseProduct(skid.size_m));
+  // Turned by theta about the axle (nose down), a point q from the axle is at -q.x sin + q.z cos
+  // below it; the lowest must reach the wheels' radius. Bisection: the height rises with theta.
+  const Eigen::Vector3d axle = robot.wheels[0].position_m;
+  const double radius = robot.wheels[0].radius_m;
+  const auto lowest_at = [&](double theta) {
+    double lowest = 1e9;
+    for (const auto& p : points)
+      lowest = std::min(lowest, -(p.x() - axle.x()) * std::sin(theta) + (p.z() - axle.z()) * std::cos(theta));
+    return lowest + radius;
+  };
+  Rest rest;
+  double lo = -0.3, hi = 0.5;
+  for (int k = 0; k < 60; ++k) (lowest_at(0.5 * (lo + hi)) < 0 ? lo : hi) = 0.5 * (lo + hi);
+  rest.predicted_rad = 0.5 * (lo + hi);
+
+  Simulation sim(project, 1);
+  run_for(sim, 1.0);
+  Vehicle& v = sim.robot(0);
+  const dReal* r = dBodyGetRotation(v.chassis_body());
+  rest.pitch_rad = std::asin(-r[8]);  // the chassis x axis's height: -sin(pitch)
+  rest.lowest_m = 1e9;
+  for (const auto& p : points) {
+    dVector3 w;
+    dBodyGetRelPointPos(v.chassis_body(), p.x(), p.y(), p.z(), w);
+    rest.lowest_m = std::min(rest.lowest_m, static_cast<double>(w[2]));
+  }
+  EXPECT_LT(v.state().velocity_mps.norm(), 1e-3);
+  return rest;
+}
+
+// The skid's hull is what touches the ground: the chassis rests level on it, where its bounding
+// box would tip the nose down by 8 degrees.
+TEST(UrdfRun, AHullSkidRestsWhereItsHullSaysAndABoxSkidWhereItsBoxSays) {
+  const Rest hull = settle_on_skid("hull");
+  const Rest box = settle_on_skid("box");
+  // The hull's lowest edge was placed level with the wheels' bottoms.
+  EXPECT_NEAR(hull.predicted_rad, 0.0, 1e-6);
+  // The box's reaches 21.2 mm lower, 150 mm behind the axle: about asin(0.0212 / 0.15), turned.
+  EXPECT_GT(box.predicted_rad, 0.12);
+  // ODE's contacts let a resting body sink up to its surface layer, 0.5 mm (physics_world; the
+  // contacts' own give under 10 N is 0.2 um): the skid's lowest point lies within 0.5 mm of the
+  // ground, and the pitch within 0.5 mm over the 150 mm from the axle, 3.3e-3 rad, of the prediction.
+  for (const Rest& rest : {hull, box}) {
+    EXPECT_NEAR(rest.lowest_m, 0.0, 5e-4);
+    EXPECT_NEAR(rest.pitch_rad, rest.predicted_rad, 5e-4 / 0.15);
+  }
+  EXPECT_GT(box.pitch_rad - hull.pitch_rad, 0.1);
+}
+
 // The avoider, unmodified, drives the imported robot through the avoider's own scenario.
 TEST(UrdfRun, AvoiderDrivesTheImportedRobotThroughItsScenario) {
   TempDir dir;
