@@ -296,11 +296,14 @@ TEST(UrdfRun, PackageAndArgOnTheCommandLineFillWhatTheProjectLeavesOut) {
 
   // Malformed values are refused by the option's name, before anything is loaded.
   const std::pair<std::string, std::string> bad[] = {
-      {"--package foo", "--package expects NAME=DIR, got 'foo' (no '=')"},
-      {"--package =" + pkg, "--package expects NAME=DIR, got '=" + pkg + "' (the name is empty)"},
-      {"--package foo=" + pkg + "/nowhere", "--package foo=" + pkg + "/nowhere: folder '" + pkg + "/nowhere' does not exist"},
-      {"--package foo=" + pkg + "/meshes/body.stl", "is not a folder"},
-      {"--arg namespace", "--arg expects NAME=VALUE, got 'namespace' (no '=')"},
+      {"--package foo", "--package: expected NAME=DIR, got 'foo' (no '=')"},
+      {"--package =" + pkg, "--package: expected NAME=DIR, got '=" + pkg + "' (the name is empty)"},
+      {"--package foo=" + pkg + "/nowhere", "--package: foo=" + pkg + "/nowhere: '" + pkg + "/nowhere' does not exist"},
+      {"--package foo=" + pkg + "/meshes/body.stl", "--package: foo=" + pkg + "/meshes/body.stl: '" + pkg +
+                                                        "/meshes/body.stl' is not a folder"},
+      {"--package foo=", "--package: foo=: the folder is empty"},
+      {"--arg namespace", "--arg: expected NAME=VALUE, got 'namespace' (no '=')"},
+      {"--arg =x", "--arg: expected NAME=VALUE, got '=x' (the name is empty)"},
   };
   for (const auto& [args, message] : bad)
     for (const char* command : {"check ", "run "}) {

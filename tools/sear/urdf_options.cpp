@@ -10,21 +10,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// NAME=VALUE with a name; for --package the value a folder that exists.
-CLI::Validator name_value(const std::string& option, const std::string& value_name, bool folder) {
+// NAME=VALUE with a name; for --package the value a folder that exists. CLI11 puts the option's
+// name before the message.
+CLI::Validator name_value(const std::string& value_name, bool folder) {
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         const auto eq = text.find('=');
-        if (eq == std::string::npos)
-          return fmt::format("{} expects NAME={}, got '{}' (no '=')", option, value_name, text);
-        if (eq == 0) return fmt::format("{} expects NAME={}, got '{}' (the name is empty)", option, value_name, text);
+        if (eq == std::string::npos) return fmt::format("expected NAME={}, got '{}' (no '=')", value_name, text);
+        if (eq == 0) return fmt::format("expected NAME={}, got '{}' (the name is empty)", value_name, text);
         if (folder) {
           const std::string dir = text.substr(eq + 1);
           std::error_code ec;
-          if (dir.empty()) return fmt::format("{} {}: the folder is empty", option, text);
+          if (dir.empty()) return fmt::format("{}: the folder is empty", text);
           if (!fs::is_directory(dir, ec))
-            return fmt::format("{} {}: folder '{}' {}", option, text, dir,
-                               fs::exists(dir, ec) ? "is not a folder" : "does not exist");
+            return fmt::format("{}: '{}' {}", text, dir, fs::exists(dir, ec) ? "is not a folder" : "does not exist");
         }
         return {};
       },
@@ -37,11 +36,11 @@ void add_urdf_options(CLI::App* cmd, std::vector<std::string>& packages, std::ve
   cmd->add_option("--package", packages,
                   "Where a URDF's package://NAME/ points (repeatable); wins over the project's <package name=\"NAME\">")
       ->type_name("NAME=DIR")
-      ->check(name_value("--package", "DIR", true));
+      ->check(name_value("DIR", true));
   cmd->add_option("--arg", args,
                   "Text for a URDF's ${NAME} and $(arg NAME) (repeatable); wins over the project's <arg name=\"NAME\">")
       ->type_name("NAME=VALUE")
-      ->check(name_value("--arg", "VALUE", false));
+      ->check(name_value("VALUE", false));
 }
 
 UrdfOverrides urdf_overrides(const std::vector<std::string>& packages, const std::vector<std::string>& args) {
