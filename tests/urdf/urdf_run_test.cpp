@@ -294,6 +294,27 @@ TEST(UrdfRun, PackageAndArgOnTheCommandLineFillWhatTheProjectLeavesOut) {
     EXPECT_EQ(nlohmann::json::parse(in)["robots"][0]["name"], "my_bot");
   }
 
+  // `sear test` passes them on to each run (which works in the suite's folder: the package folder
+  // given relative to here still resolves); the expectation names the robot by its argument.
+  std::string suite = project_xml("", "", R"(
+  <robot urdf="../robot.urdf">
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster"/>
+  </robot>)");
+  suite.replace(suite.rfind("</project>"), 10, R"(<expect><no_collision robot="my_bot"/></expect></project>)");
+  write_text(dir.path() / "suite/project.xml", suite);
+  const std::string test = "test " + (dir.path() / "suite").string() + " --timeout 0.05 -o " +
+                           (dir.path() / "test-out").string();
+  out = command_output("cd " + dir.path().string() + " && " + SEAR_BINARY + " " + test +
+                       " --arg namespace=my_ --package foo=pkg 2>&1");
+  EXPECT_EQ(out.exit_code, 0) << out.out;
+  EXPECT_NE(out.out.find("1 of 1 case passed"), std::string::npos) << out.out;
+  out = sear(test + " --arg namespace=my_");  // no package: the run fails, and says why
+  EXPECT_NE(out.exit_code, 0) << out.out;
+  EXPECT_NE(out.out.find("in package 'foo', which is not known"), std::string::npos) << out.out;
+  EXPECT_NE(out.out.find("--timeout 0.05 --arg namespace=my_\n"), std::string::npos) << out.out;  // reproduce:
+
   // Malformed values are refused by the option's name, before anything is loaded.
   const std::pair<std::string, std::string> bad[] = {
       {"--package foo", "--package: expected NAME=DIR, got 'foo' (no '=')"},
