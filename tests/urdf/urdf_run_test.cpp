@@ -322,7 +322,7 @@ TEST(UrdfRun, PackageAndArgOnTheCommandLineFillWhatTheProjectLeavesOut) {
       {"--package foo=" + pkg + "/nowhere", "--package: foo=" + pkg + "/nowhere: '" + pkg + "/nowhere' does not exist"},
       {"--package foo=" + pkg + "/meshes/body.stl", "--package: foo=" + pkg + "/meshes/body.stl: '" + pkg +
                                                         "/meshes/body.stl' is not a folder"},
-      {"--package foo=", "--package: foo=: the folder is empty"},
+      {"--package foo=", "--package: foo=: no folder after '='"},
       {"--arg namespace", "--arg: expected NAME=VALUE, got 'namespace' (no '=')"},
       {"--arg =x", "--arg: expected NAME=VALUE, got '=x' (the name is empty)"},
   };

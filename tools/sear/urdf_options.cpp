@@ -21,7 +21,7 @@ CLI::Validator name_value(const std::string& value_name, bool folder) {
         if (folder) {
           const std::string dir = text.substr(eq + 1);
           std::error_code ec;
-          if (dir.empty()) return fmt::format("{}: the folder is empty", text);
+          if (dir.empty()) return fmt::format("{}: no folder after '='", text);
           if (!fs::is_directory(dir, ec))
             return fmt::format("{}: '{}' {}", text, dir, fs::exists(dir, ec) ? "is not a folder" : "does not exist");
         }
