@@ -27,6 +27,7 @@ packages=(
   jq bc                      # bench/timed_runs.sh reads each run's summary.json and adds wall times
   slurm-wlm munge            # scripts/slurm-local.sh: a one-node Slurm runs the `sear test --shard` array job in the tests
   liburdfdom-dev liburdfdom-tools  # URDF robots: urdfdom parses them; the tests hold it against check_urdf
+  libqhull-dev               # URDF robots: a body mesh over its triangle budget becomes its convex hull (qhull's reentrant libqhull_r)
 )
 
 missing=()

@@ -6,6 +6,7 @@
 
 #include "scene/description.hpp"
 #include "scene/element_reader.hpp"
+#include "scene/urdf_overrides.hpp"
 
 namespace tinyxml2 {
 class XMLDocument;
@@ -70,7 +71,7 @@ void read_world(const tinyxml2::XMLElement& element, const std::string& file, Di
 // A <robot> element of a project: inline, or naming a robot file with file="...". Materials the
 // robot declares join the world's. False when an included robot file could not be read.
 bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
-                        WorldDesc& world, RobotDesc& robot);
+                        WorldDesc& world, RobotDesc& robot, const UrdfOverrides& overrides = {});
 
 void read_script(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
                  std::vector<ScriptCommand>& script);

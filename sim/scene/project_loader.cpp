@@ -65,7 +65,7 @@ void check_can_buses(const ProjectDesc& project, Diagnostics& diagnostics) {
 }  // namespace
 
 std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::string& path,
-                                             Diagnostics& diagnostics) {
+                                             Diagnostics& diagnostics, const UrdfOverrides& overrides) {
   // The file's name goes into summary.json as the project's file: JSON holds only UTF-8.
   if (first_invalid_utf8(path) != std::string::npos) {
     diagnostics.error(path, 0, "the project file's name is not valid UTF-8; rename it");
@@ -108,7 +108,7 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
       c.finish();
     } else {
       RobotDesc robot;
-      if (!read_project_robot(child, path, diagnostics, project.world, robot)) return;
+      if (!read_project_robot(child, path, diagnostics, project.world, robot, overrides)) return;
       project.robots.push_back(std::move(robot));
     }
   });
@@ -136,9 +136,10 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
   return project;
 }
 
-std::optional<ProjectDesc> load_project(const std::string& path, Diagnostics& diagnostics) {
+std::optional<ProjectDesc> load_project(const std::string& path, Diagnostics& diagnostics,
+                                        const UrdfOverrides& overrides) {
   const auto text = read_named_file(path, "project file", diagnostics);
-  return text ? load_project_text(*text, path, diagnostics) : std::nullopt;
+  return text ? load_project_text(*text, path, diagnostics, overrides) : std::nullopt;
 }
 
 }  // namespace sear

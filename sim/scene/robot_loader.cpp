@@ -225,8 +225,8 @@ void read_script(const tinyxml2::XMLElement& element, const std::string& file, D
 }
 
 bool read_project_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
-                        WorldDesc& world, RobotDesc& robot) {
-  if (element.Attribute("urdf")) return read_urdf_robot(element, file, diagnostics, world, robot);
+                        WorldDesc& world, RobotDesc& robot, const UrdfOverrides& overrides) {
+  if (element.Attribute("urdf")) return read_urdf_robot(element, file, diagnostics, world, robot, overrides);
   bool parts_read = true;
   ElementReader r(&element, file, diagnostics);
   robot.source = {file, r.line()};

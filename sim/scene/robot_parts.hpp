@@ -6,6 +6,7 @@
 
 #include "scene/description.hpp"
 #include "scene/element_reader.hpp"
+#include "scene/urdf_overrides.hpp"
 
 namespace tinyxml2 {
 class XMLElement;
@@ -22,8 +23,9 @@ void read_robot_pose(ElementReader& r, const WorldDesc& world, RobotDesc& robot)
 void add_robot_material(ElementReader& r, WorldDesc& world);
 
 // A project's <robot urdf="...">: the URDF's links and joints, the mapping (in the element or in
-// the file its `mapping` names), pose, script and MCUs. False when the URDF could not be read.
+// the file its `mapping` names, then `overrides`), pose, script and MCUs. False when the URDF could
+// not be read.
 bool read_urdf_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
-                     WorldDesc& world, RobotDesc& robot);
+                     WorldDesc& world, RobotDesc& robot, const UrdfOverrides& overrides);
 
 }  // namespace sear

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "scene/convex_hull.hpp"
 #include "scene/loader_parts.hpp"
 #include "scene/mesh_loader.hpp"
 #include "scene/nearest_name.hpp"
@@ -151,8 +152,8 @@ std::string resolve_mesh(const std::string& uri, const std::string& urdf_path, c
          dir = dir.parent_path())
       if (dir.filename() == name) return (dir / inside).string();
     problem = fmt::format("mesh '{}' is in package '{}', which is not known: give <package name=\"{}\" dir=\"...\"/> "
-                          "in the robot's mapping",
-                          uri, name, name);
+                          "in the robot's mapping, or --package {}=DIR on the command line",
+                          uri, name, name, name);
     return "";
   }
   if (uri.rfind("file://", 0) == 0) return uri.substr(7);
@@ -232,6 +233,8 @@ class Importer {
  private:
   void error(int line, const std::string& message) { diagnostics_.error(path_, line, message); }
   void warn(int line, const std::string& message) { robot_.report.warnings.push_back({{path_, line}, message}); }
+  std::optional<ShapeDesc> hull_of(const ShapeDesc& mesh, const std::string& link, int line, std::size_t triangles,
+                                   std::size_t budget, UrdfImportDesc::Mesh& report);
   std::optional<ShapeDesc> shape_of(const urdf::Geometry& g, const std::string& link, const char* use, int index,
                                     const Iso& at, std::size_t* triangles);
   void visit(const urdf::Link& link, int body, const Iso& in_body, int caster);
@@ -334,6 +337,27 @@ std::optional<ShapeDesc> Importer::shape_of(const urdf::Geometry& g, const std::
   return s;
 }
 
+// A body mesh over its budget as its convex hull: the hull's faces fanned into triangles, a
+// trimesh for ODE (docs/urdf.md says why not a dConvex), in the mesh's own frame.
+std::optional<ShapeDesc> Importer::hull_of(const ShapeDesc& mesh, const std::string& link, int line,
+                                           std::size_t triangles, std::size_t budget, UrdfImportDesc::Mesh& report) {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(mesh.mesh.vertices.size());
+  for (const auto& v : mesh.mesh.vertices) points.push_back(v.cast<double>());
+  const ConvexHull hull = convex_hull(points);
+  if (!hull.error.empty()) {
+    error(line, fmt::format("link '{}': collision mesh '{}' has no convex hull ({}); it may be flat: use replace=\"box\" "
+                            "or a mesh with volume",
+                            link, report.file, hull.error));
+    return std::nullopt;
+  }
+  ShapeDesc out = mesh;
+  out.mesh = hull_triangles(hull);
+  report.decision = fmt::format("convex hull, {} vertices, {} faces, {} triangles ({} triangles, over the budget of {})",
+                                hull.vertices.size(), hull.faces.size(), out.mesh.indices.size() / 3, triangles, budget);
+  return out;
+}
+
 void Importer::add_link(const urdf::Link& link, int body, const Iso& in_body, int caster) {
   Body& b = bodies_[static_cast<std::size_t>(body)];
   const Iso in_base = b.frame * in_body;
@@ -363,7 +387,12 @@ void Importer::add_link(const urdf::Link& link, int body, const Iso& in_body, in
       const UrdfMapping::Collision* rule = collision_rule(link.name);
       const std::size_t budget = rule ? rule->max_triangles : 20000;
       auto& report = robot_.report.meshes.back();
-      if (triangles > budget && rule && rule->as_box) {
+      using Replace = UrdfMapping::Collision::Replace;
+      if (triangles > budget && rule && rule->replace == Replace::Hull) {
+        std::optional<ShapeDesc> hull = hull_of(*s, link.name, placed.line, triangles, budget, report);
+        if (!hull) continue;
+        placed.shape.mesh = std::move(hull->mesh);
+      } else if (triangles > budget && rule && rule->replace == Replace::Box) {
         Eigen::Vector3f lo, hi;
         mesh_bounds(s->mesh, lo, hi);
         ShapeDesc box;
@@ -376,8 +405,8 @@ void Importer::add_link(const urdf::Link& link, int body, const Iso& in_body, in
                                       box.size_m.x(), box.size_m.y(), box.size_m.z(), triangles, budget);
       } else if (triangles > budget) {
         warn(placed.line, fmt::format("link '{}': collision mesh '{}' has {} triangles, over the budget of {}: every "
-                                      "contact test walks them; <collision link=\"{}\" replace=\"box\"/> "
-                                      "makes it its bounding box",
+                                      "contact test walks them; <collision link=\"{}\" replace=\"hull\"/> "
+                                      "makes it its convex hull, replace=\"box\" its bounding box",
                                       link.name, report.file, triangles, budget, link.name));
         report.decision = fmt::format("trimesh ({} triangles, over the budget of {}, kept)", triangles, budget);
       } else {
@@ -757,7 +786,7 @@ bool expand_urdf_text(std::string& text, const std::string& path, const std::map
                         fmt::format("unexpanded xacro expression '{}': xacro is not available in Debian 12, so SEAR "
                                     "reads only expanded URDF; expand it where xacro is installed (xacro "
                                     "robot.urdf.xacro > robot.urdf), or, for a plain name, give <arg name=\"...\" "
-                                    "value=\"...\"/> in the robot's mapping",
+                                    "value=\"...\"/> in the robot's mapping or --arg NAME=VALUE on the command line",
                                     expr));
       ok = false;
       ++reported;

@@ -41,12 +41,14 @@ struct UrdfMapping {
     double kg_per_m3 = 0;
   };
   std::vector<Density> densities;
-  // Body collision meshes with more triangles than the budget: kept (with a warning) or boxed.
+  // Body collision meshes with more triangles than the budget: kept (with a warning), boxed, or
+  // replaced by their convex hull.
   struct Collision {
+    enum class Replace { None, Box, Hull };
     SourceRef source;
     std::string link;  // empty: every link
     std::size_t max_triangles = 20000;
-    bool as_box = false;
+    Replace replace = Replace::None;
   };
   std::vector<Collision> collisions;
   std::string chassis_material = "default";

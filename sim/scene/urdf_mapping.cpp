@@ -78,7 +78,7 @@ void read_mapping_child(const tinyxml2::XMLElement& child, const std::string& fi
     k.source = at;
     k.link = c.text("link", "");
     k.max_triangles = static_cast<std::size_t>(c.whole_number("max_triangles", 20000, kTriangles));
-    k.as_box = c.choice("replace", {"none", "box"}, 0) == 1;
+    k.replace = static_cast<UrdfMapping::Collision::Replace>(c.choice("replace", {"none", "box", "hull"}, 0));
     m.collisions.push_back(k);
   } else if (kind == "chassis") {
     m.chassis_material = read_robot_material(c, world, diagnostics);
@@ -152,7 +152,7 @@ void place_devices(const Mapping& mapping, const UrdfRobot& urdf, Diagnostics& d
 }  // namespace
 
 bool read_urdf_robot(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics,
-                     WorldDesc& world, RobotDesc& robot) {
+                     WorldDesc& world, RobotDesc& robot, const UrdfOverrides& overrides) {
   ElementReader r(&element, file, diagnostics);
   robot.source = {file, r.line()};
   robot.parts_source = robot.source;
@@ -211,6 +211,8 @@ bool read_urdf_robot(const tinyxml2::XMLElement& element, const std::string& fil
   r.finish();
   if (urdf_relative.empty() || !check_readable_file(r, "URDF", urdf_relative, urdf_path)) return false;
 
+  for (const auto& [name, dir] : overrides.packages) mapping.urdf.packages[name] = dir;
+  for (const auto& [name, value] : overrides.args) mapping.urdf.args[name] = value;
   UrdfRobot urdf;
   if (!import_urdf(urdf_path, mapping.urdf, diagnostics, urdf)) return false;
   if (robot.name.empty()) robot.name = urdf.name;

@@ -62,6 +62,22 @@ inline std::string box_stl(double sx, double sy, double sz, int n = 1) {
   return out + "endsolid box\n";
 }
 
+// A regular octahedron with its corners on the axes at `r` from the centre, as ASCII STL: 8
+// faces, 6 corners, volume 4/3 r^3.
+inline std::string octahedron_stl(double r) {
+  std::string out = "solid octahedron\n";
+  for (double sx : {1.0, -1.0})
+    for (double sy : {1.0, -1.0})
+      for (double sz : {1.0, -1.0}) {
+        std::array<std::array<double, 3>, 3> c = {{{sx * r, 0, 0}, {0, sy * r, 0}, {0, 0, sz * r}}};
+        if (sx * sy * sz < 0) std::swap(c[1], c[2]);  // outward winding
+        out += fmt::format("facet normal {} {} {}\n outer loop\n", sx, sy, sz);
+        for (const auto& p : c) out += fmt::format("  vertex {:.6f} {:.6f} {:.6f}\n", p[0], p[1], p[2]);
+        out += " endloop\nendfacet\n";
+      }
+  return out + "endsolid octahedron\n";
+}
+
 // The same box as COLLADA, in the unit `meter` metres per file unit, Z up.
 inline std::string box_dae(double sx, double sy, double sz, double meter) {
   const std::string stl = box_stl(sx, sy, sz);

@@ -8,6 +8,8 @@
 
 #include "../command_output.hpp"
 #include "../temp_dir.hpp"
+#include "scene/convex_hull.hpp"
+#include "scene/mesh_loader.hpp"
 #include "urdf_files.hpp"
 
 namespace sear::test {
@@ -394,14 +396,14 @@ TEST(UrdfImport, HeavyBodyMeshBecomesItsBoxWhenTheMappingAsks) {
   </link>
 </robot>)";
   UrdfMapping m;
-  m.collisions.push_back({{}, "", 1000, false});
+  m.collisions.push_back({{}, "", 1000, UrdfMapping::Collision::Replace::None});
   const Imported kept = import_text(dir.path(), text, m);
   ASSERT_TRUE(kept.ok) << kept.diagnostics.joined();
   EXPECT_EQ(kept.robot.chassis.parts[0].kind, ShapeDesc::Kind::Mesh);
   const auto* w = find_warning(kept.robot, "4800 triangles, over the budget of 1000");
   ASSERT_NE(w, nullptr);
   EXPECT_EQ(w->first.line, 3);
-  m.collisions[0].as_box = true;
+  m.collisions[0].replace = UrdfMapping::Collision::Replace::Box;
   const Imported boxed = import_text(dir.path(), text, m);
   ASSERT_TRUE(boxed.ok) << boxed.diagnostics.joined();
   const ShapeDesc& box = boxed.robot.chassis.parts[0];
@@ -410,6 +412,138 @@ TEST(UrdfImport, HeavyBodyMeshBecomesItsBoxWhenTheMappingAsks) {
   EXPECT_TRUE((box.position_m - boxed.robot.report.base_origin_m).isApprox(Eigen::Vector3d(0.01, 0, 0), 1e-6));
   EXPECT_NE(boxed.robot.report.meshes[0].decision.find("4800 triangles, over the budget of 1000"), std::string::npos)
       << boxed.robot.report.meshes[0].decision;
+}
+
+// Every face's plane holds its corners, its normal is a unit vector pointing away from the
+// centre (the hulls here are centred on the origin), and its corners go counter-clockwise seen
+// from outside (each fanned triangle's own normal along the face's).
+void expect_well_formed(const ConvexHull& hull) {
+  for (const auto& f : hull.faces) {
+    EXPECT_NEAR(f.normal.norm(), 1.0, 1e-12);
+    EXPECT_GT(f.offset, 0);  // the origin is inside
+    for (auto k : f.corners) EXPECT_NEAR(f.normal.dot(hull.vertices[k]), f.offset, 1e-9);
+    for (std::size_t k = 1; k + 1 < f.corners.size(); ++k) {
+      const Eigen::Vector3d& a = hull.vertices[f.corners[0]];
+      EXPECT_GT((hull.vertices[f.corners[k]] - a).cross(hull.vertices[f.corners[k + 1]] - a).dot(f.normal), 0);
+    }
+  }
+}
+
+// The signed volume of a closed triangle mesh: positive only when every triangle winds outward.
+double mesh_volume(const TriangleMesh& mesh) {
+  double six_v = 0;
+  for (std::size_t t = 0; t < mesh.indices.size(); t += 3)
+    six_v += mesh.vertices[mesh.indices[t]].cast<double>().dot(
+        mesh.vertices[mesh.indices[t + 1]].cast<double>().cross(mesh.vertices[mesh.indices[t + 2]].cast<double>()));
+  return six_v / 6;
+}
+
+std::vector<Eigen::Vector3d> stl_points(const std::filesystem::path& file) {
+  const MeshLoadResult loaded = load_mesh(file.string(), UpAxis::Z, 1.0);
+  EXPECT_TRUE(loaded.error.empty()) << loaded.error;
+  std::vector<Eigen::Vector3d> points;
+  for (const auto& v : loaded.mesh.vertices) points.push_back(v.cast<double>());
+  return points;
+}
+
+// A box whose faces are split into 4 x 4 squares: the squares' inner corners lie on the faces,
+// so the hull keeps the 8 corners, and qhull merges each face's triangles into one square.
+TEST(UrdfHull, ASubdividedBoxHasEightCornersSixSquareFacesAndItsVolume) {
+  TempDir dir;
+  write_text(dir.path() / "box.stl", box_stl(0.2, 0.1, 0.05, 4));
+  const auto points = stl_points(dir.path() / "box.stl");
+  ASSERT_GT(points.size(), 8u);  // a 5 x 5 grid of points on each face
+  const ConvexHull hull = convex_hull(points);
+  ASSERT_TRUE(hull.error.empty()) << hull.error;
+  EXPECT_EQ(hull.vertices.size(), 8u);
+  ASSERT_EQ(hull.faces.size(), 6u);
+  for (const auto& f : hull.faces) EXPECT_EQ(f.corners.size(), 4u);
+  expect_well_formed(hull);
+  // 0.2 x 0.1 x 0.05 m; the STL's corners are floats, each side within 2^-24 of its own length,
+  // the volume within 3 * 2^-24 of its own.
+  EXPECT_NEAR(hull_volume(hull), 0.2 * 0.1 * 0.05, 3 * std::ldexp(0.001, -24));
+  // The triangles ODE and the viewer get: two a square, wound outward (the same volume, not its
+  // negative; their corners rounded to float once more).
+  const TriangleMesh triangles = hull_triangles(hull);
+  EXPECT_EQ(triangles.indices.size(), 3u * 12u);
+  EXPECT_NEAR(mesh_volume(triangles), 0.2 * 0.1 * 0.05, 6 * std::ldexp(0.001, -24));
+}
+
+TEST(UrdfHull, AnOctahedronHasSixCornersEightTrianglesAndFourThirdsRCubed) {
+  TempDir dir;
+  const double r = 0.03;
+  write_text(dir.path() / "octahedron.stl", octahedron_stl(r));
+  std::vector<Eigen::Vector3d> points = stl_points(dir.path() / "octahedron.stl");
+  // Points inside change nothing: the centre and a point halfway to a corner.
+  points.push_back(Eigen::Vector3d::Zero());
+  points.push_back(Eigen::Vector3d(0.5 * r, 0, 0));
+  const ConvexHull hull = convex_hull(points);
+  ASSERT_TRUE(hull.error.empty()) << hull.error;
+  EXPECT_EQ(hull.vertices.size(), 6u);
+  ASSERT_EQ(hull.faces.size(), 8u);
+  expect_well_formed(hull);
+  // Each face 1/sqrt(3) r from the centre.
+  for (const auto& f : hull.faces) EXPECT_NEAR(f.offset, r / std::sqrt(3.0), 1e-9);
+  // Two square pyramids of base 2 r^2 and height r: 4/3 r^3. The STL's corners are floats, r
+  // within half a float ulp (2^-24 relative), so the volume within 3 * 2^-24 of it.
+  const double volume = 4.0 / 3.0 * r * r * r;
+  EXPECT_NEAR(hull_volume(hull), volume, 3 * std::ldexp(volume, -24));
+  EXPECT_NEAR(mesh_volume(hull_triangles(hull)), volume, 6 * std::ldexp(volume, -24));
+}
+
+TEST(UrdfHull, FlatPointsHaveNoHullAndSayWhy) {
+  const ConvexHull hull = convex_hull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.5, 0}});
+  EXPECT_FALSE(hull.error.empty());
+  EXPECT_TRUE(hull.faces.empty());
+  EXPECT_EQ(convex_hull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}).error, "fewer than 4 points");
+}
+
+TEST(UrdfImport, HeavyBodyMeshBecomesItsHullWhenTheMappingAsks) {
+  TempDir dir;
+  write_text(dir.path() / "body.stl", box_stl(0.2, 0.1, 0.05, 20));  // 4800 triangles
+  const std::string text = R"(<robot name="h">
+  <link name="base_link">
+    <collision><origin xyz="0.01 0 0"/><geometry><mesh filename="body.stl"/></geometry></collision>
+    <inertial><mass value="1"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.0035" iyz="0" izz="0.004"/></inertial>
+  </link>
+</robot>)";
+  UrdfMapping m;
+  m.collisions.push_back({{}, "", 1000, UrdfMapping::Collision::Replace::Hull});
+  const Imported hulled = import_text(dir.path(), text, m);
+  ASSERT_TRUE(hulled.ok) << hulled.diagnostics.joined();
+  EXPECT_TRUE(hulled.robot.report.warnings.empty());
+  const ShapeDesc& part = hulled.robot.chassis.parts[0];
+  EXPECT_EQ(part.kind, ShapeDesc::Kind::Mesh);
+  EXPECT_EQ(part.mesh.vertices.size(), 8u);
+  EXPECT_EQ(part.mesh.indices.size(), 3u * 12u);
+  EXPECT_TRUE((part.position_m - hulled.robot.report.base_origin_m).isApprox(Eigen::Vector3d(0.01, 0, 0), 1e-6));
+  EXPECT_EQ(hulled.robot.report.meshes[0].decision,
+            "convex hull, 8 vertices, 6 faces, 12 triangles (4800 triangles, over the budget of 1000)");
+
+  // A flat mesh has no hull: refused at its <collision>.
+  write_text(dir.path() / "body.stl", R"(solid flat
+facet normal 0 0 1
+ outer loop
+  vertex 0 0 0
+  vertex 1 0 0
+  vertex 1 1 0
+ endloop
+endfacet
+facet normal 0 0 1
+ outer loop
+  vertex 0 0 0
+  vertex 1 1 0
+  vertex 0 1 0
+ endloop
+endfacet
+endsolid flat
+)");
+  m.collisions[0].max_triangles = 1;
+  const Imported flat = import_text(dir.path(), text, m);
+  EXPECT_FALSE(flat.ok);
+  const Diagnostic* e = find_error(flat.diagnostics, "has no convex hull");
+  ASSERT_NE(e, nullptr) << flat.diagnostics.joined();
+  EXPECT_EQ(e->line, 3);
 }
 
 TEST(UrdfImport, PackagePathsResolveThroughTheMappingOrAFolderOfThatName) {

@@ -13,6 +13,7 @@
 #include "../temp_dir.hpp"
 #include "../test_world.hpp"
 #include "scene/project_loader.hpp"
+#include "urdf_files.hpp"
 
 namespace sear::test {
 namespace {
@@ -143,6 +144,298 @@ TEST(UrdfRun, CheckPrintsEachMeshExtentInMetres) {
   EXPECT_NE(out.out.find("left_wheel collision package://diffbot/meshes/diffbot/wheel.stl: 0.09 x 0.025 x 0.09 m"),
             std::string::npos)
       << out.out;
+}
+
+// A ball caster's link: a sphere of `radius` whose centre is `z` below base_link, `x` ahead of it.
+std::string caster_xml(double x, double z, double radius = 0.01) {
+  return fmt::format(R"(
+  <link name="caster">
+    <collision><geometry><sphere radius="{2}"/></geometry></collision>
+  </link>
+  <joint name="caster_joint" type="fixed">
+    <parent link="base_link"/><child link="caster"/><origin xyz="{0} 0 {1}"/>
+  </joint>)",
+                     x, -z, radius);
+}
+
+// A small robot whose URDF draws two import warnings: an rpy written short of pi/2 (snapped), and a
+// fixed skid box down on the ground the wheels stand on (it drags).
+const std::string kWarnedUrdf = R"(<?xml version="1.0"?>
+<robot name="warned">
+  <link name="base_link">
+    <collision><geometry><box size="0.2 0.12 0.04"/></geometry></collision>
+    <inertial><mass value="1.0"/><inertia ixx="0.0015" ixy="0" ixz="0" iyy="0.0035" iyz="0" izz="0.0045"/></inertial>
+  </link>
+  <link name="skid">
+    <collision><origin rpy="0 0 1.5708"/><geometry><box size="0.02 0.02 0.03"/></geometry></collision>
+  </link>
+  <joint name="skid_joint" type="fixed">
+    <parent link="base_link"/><child link="skid"/><origin xyz="-0.08 0 -0.03"/>
+  </joint>)" + wheel_xml("left", 0.08) + wheel_xml("right", -0.08) + caster_xml(0.08, 0.035) + R"(
+</robot>
+)";
+
+std::string warned_project() {
+  return project_xml("", "", R"(
+  <robot name="warned" urdf="robot.urdf">
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster"/>
+  </robot>)");
+}
+
+// `sear run` prints the import's warnings once, before the run, as `sear check` does, and keeps
+// them in the summary.
+TEST(UrdfRun, RunPrintsTheImportWarningsOnceAndKeepsThemInTheSummary) {
+  TempDir dir;
+  write_text(dir.path() / "robot.urdf", kWarnedUrdf);
+  write_text(dir.path() / "project.xml", warned_project());
+  const std::string urdf = (dir.path() / "robot.urdf").string();
+  const std::string snapped = fmt::format("{}:{}: warning: rpy=\"0 0 1.5708\" is within", urdf,
+                                          line_of(kWarnedUrdf, "rpy=\"0 0 1.5708\""));
+  const std::string drags = fmt::format("{}:{}: warning: link 'skid': its collision shape reaches down to the ground",
+                                        urdf, line_of(kWarnedUrdf, "<collision><origin rpy=\"0 0 1.5708\""));
+  const auto out = dir.path() / "run";
+  // stderr alone (stdout, the summary, to /dev/null): the warnings go where errors go.
+  const CommandOutput run = command_output(std::string(SEAR_BINARY) + " run " + (dir.path() / "project.xml").string() +
+                                           " -d 0.05 --no-plots -o " + out.string() + " 2>&1 >/dev/null");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  for (const std::string& warning : {snapped, drags}) {
+    const auto first = run.out.find(warning);
+    EXPECT_NE(first, std::string::npos) << warning << "\n" << run.out;
+    EXPECT_EQ(run.out.find(warning, first + 1), std::string::npos) << "printed twice: " << warning << "\n" << run.out;
+  }
+  const CommandOutput check =
+      command_output(std::string(SEAR_BINARY) + " check " + (dir.path() / "project.xml").string() + " 2>&1 >/dev/null");
+  ASSERT_EQ(check.exit_code, 0) << check.out;
+  EXPECT_NE(check.out.find(snapped), std::string::npos) << check.out;
+  EXPECT_NE(check.out.find(drags), std::string::npos) << check.out;
+
+  std::ifstream in(out / "summary.json");
+  const auto summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["import_warnings"].size(), 2u) << summary["import_warnings"].dump(2);
+  EXPECT_EQ(summary["import_warnings"][0]["file"], urdf);
+  EXPECT_EQ(summary["import_warnings"][0]["line"], line_of(kWarnedUrdf, "rpy=\"0 0 1.5708\""));
+  EXPECT_NE(summary["import_warnings"][1]["text"].get<std::string>().find("will slide over the floor"), std::string::npos);
+  std::ifstream text_in(out / "summary.txt");
+  const std::string text(std::istreambuf_iterator<char>(text_in), {});
+  EXPECT_NE(text.find(fmt::format("  import warning: {}:{}: rpy=", urdf, line_of(kWarnedUrdf, "rpy=\"0 0 1.5708\""))),
+            std::string::npos)
+      << text;
+}
+
+// A robot whose body mesh is in package 'foo' and whose name takes ${namespace}, as a launch file
+// would fill them in: the project says neither, the command line does.
+const std::string kPackagedUrdf = R"(<?xml version="1.0"?>
+<robot name="${namespace}bot">
+  <link name="base_link">
+    <visual><geometry><mesh filename="package://foo/meshes/body.stl"/></geometry></visual>
+    <collision><geometry><box size="0.2 0.12 0.04"/></geometry></collision>
+    <inertial><mass value="1.0"/><inertia ixx="0.0015" ixy="0" ixz="0" iyy="0.0035" iyz="0" izz="0.0045"/></inertial>
+  </link>)" + wheel_xml("left", 0.08) + wheel_xml("right", -0.08) + caster_xml(-0.08, 0.035) + R"(
+</robot>
+)";
+
+TEST(UrdfRun, PackageAndArgOnTheCommandLineFillWhatTheProjectLeavesOut) {
+  TempDir dir;
+  write_text(dir.path() / "robot.urdf", kPackagedUrdf);
+  write_text(dir.path() / "pkg/meshes/body.stl", box_stl(0.2, 0.12, 0.04));
+  write_text(dir.path() / "project.xml", project_xml("", "", R"(
+  <robot urdf="robot.urdf">
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster"/>
+  </robot>)"));
+  const std::string urdf = (dir.path() / "robot.urdf").string();
+  const std::string project = (dir.path() / "project.xml").string();
+  const std::string pkg = (dir.path() / "pkg").string();
+  const auto sear = [&](const std::string& args) { return command_output(std::string(SEAR_BINARY) + " " + args + " 2>&1"); };
+
+  // Neither given: the unexpanded name is refused at its line, naming --arg.
+  CommandOutput out = sear("check " + project);
+  EXPECT_EQ(out.exit_code, 1) << out.out;
+  EXPECT_NE(out.out.find(urdf + ":2: error: unexpanded xacro expression '${namespace}'"), std::string::npos) << out.out;
+  EXPECT_NE(out.out.find("--arg NAME=VALUE"), std::string::npos) << out.out;
+  // The name given, the package not: the mesh is refused at its line, naming --package.
+  out = sear("check " + project + " --arg namespace=my_");
+  EXPECT_EQ(out.exit_code, 1) << out.out;
+  EXPECT_NE(out.out.find(urdf + ":4: error: link 'base_link': mesh 'package://foo/meshes/body.stl' is in package 'foo', "
+                                "which is not known"),
+            std::string::npos)
+      << out.out;
+  EXPECT_NE(out.out.find("--package foo=DIR"), std::string::npos) << out.out;
+  // Both: the robot is named from the argument, its mesh found in the folder.
+  out = sear("check " + project + " --arg namespace=my_ --package foo=" + pkg);
+  EXPECT_EQ(out.exit_code, 0) << out.out;
+  EXPECT_NE(out.out.find("robot 'my_bot' from " + urdf), std::string::npos) << out.out;
+  EXPECT_NE(out.out.find("base_link visual package://foo/meshes/body.stl: 0.2 x 0.12 x 0.04 m"), std::string::npos)
+      << out.out;
+  // The command line wins over the project's own <arg> and <package>.
+  std::string xml = project_xml("", "", R"(
+  <robot urdf="robot.urdf">
+    <arg name="namespace" value="project_"/>
+    <package name="foo" dir="nowhere"/>
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster"/>
+  </robot>)");
+  write_text(dir.path() / "own.xml", xml);
+  out = sear("check " + (dir.path() / "own.xml").string());
+  EXPECT_EQ(out.exit_code, 1) << out.out;  // its own package folder holds no mesh
+  out = sear("check " + (dir.path() / "own.xml").string() + " --arg namespace=my_ --package foo=" + pkg);
+  EXPECT_EQ(out.exit_code, 0) << out.out;
+  EXPECT_NE(out.out.find("robot 'my_bot' from " + urdf), std::string::npos) << out.out;
+  // `sear run` takes them alike (a run of 10 ms).
+  out = sear("run " + project + " -d 0.01 --no-plots -q -o " + (dir.path() / "run").string() +
+             " --arg namespace=my_ --package foo=" + pkg);
+  EXPECT_EQ(out.exit_code, 0) << out.out;
+  {
+    std::ifstream in(dir.path() / "run/summary.json");
+    EXPECT_EQ(nlohmann::json::parse(in)["robots"][0]["name"], "my_bot");
+  }
+
+  // `sear test` passes them on to each run (which works in the suite's folder: the package folder
+  // given relative to here still resolves); the expectation names the robot by its argument.
+  std::string suite = project_xml("", "", R"(
+  <robot urdf="../robot.urdf">
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster"/>
+  </robot>)");
+  suite.replace(suite.rfind("</project>"), 10, R"(<expect><no_collision robot="my_bot"/></expect></project>)");
+  write_text(dir.path() / "suite/project.xml", suite);
+  const std::string test = "test " + (dir.path() / "suite").string() + " --timeout 0.05 -o " +
+                           (dir.path() / "test-out").string();
+  out = command_output("cd " + dir.path().string() + " && " + SEAR_BINARY + " " + test +
+                       " --arg namespace=my_ --package foo=pkg 2>&1");
+  EXPECT_EQ(out.exit_code, 0) << out.out;
+  EXPECT_NE(out.out.find("1 of 1 case passed"), std::string::npos) << out.out;
+  out = sear(test + " --arg namespace=my_");  // no package: the run fails, and says why
+  EXPECT_NE(out.exit_code, 0) << out.out;
+  EXPECT_NE(out.out.find("in package 'foo', which is not known"), std::string::npos) << out.out;
+  EXPECT_NE(out.out.find("--timeout 0.05 --arg namespace=my_\n"), std::string::npos) << out.out;  // reproduce:
+
+  // Malformed values are refused by the option's name, before anything is loaded.
+  const std::pair<std::string, std::string> bad[] = {
+      {"--package foo", "--package: expected NAME=DIR, got 'foo' (no '=')"},
+      {"--package =" + pkg, "--package: expected NAME=DIR, got '=" + pkg + "' (the name is empty)"},
+      {"--package foo=" + pkg + "/nowhere", "--package: foo=" + pkg + "/nowhere: '" + pkg + "/nowhere' does not exist"},
+      {"--package foo=" + pkg + "/meshes/body.stl", "--package: foo=" + pkg + "/meshes/body.stl: '" + pkg +
+                                                        "/meshes/body.stl' is not a folder"},
+      {"--package foo=", "--package: foo=: no folder after '='"},
+      {"--arg namespace", "--arg: expected NAME=VALUE, got 'namespace' (no '=')"},
+      {"--arg =x", "--arg: expected NAME=VALUE, got '=x' (the name is empty)"},
+  };
+  for (const auto& [args, message] : bad)
+    for (const char* command : {"check ", "run "}) {
+      out = sear(command + project + " " + args);
+      EXPECT_NE(out.exit_code, 0) << command << args;
+      EXPECT_NE(out.out.find(message), std::string::npos) << command << args << "\n" << out.out;
+    }
+}
+
+// A two-wheeled robot whose rear rests on a skid: an octahedron (corners 30 mm from its centre)
+// turned 45 degrees about x, 150 mm behind the axle. Its hull's lowest edge lies r / sqrt(2) =
+// 21.2 mm below its centre, placed to touch the ground the wheels stand on with the chassis level;
+// its bounding box, turned the same way, reaches r sqrt(2) = 42.4 mm below it, 21.2 mm lower.
+const double kSkidR = 0.03;
+const std::string kSkidUrdf = fmt::format(R"(<?xml version="1.0"?>
+<robot name="skidder">
+  <link name="base_link">
+    <collision><geometry><box size="0.2 0.12 0.04"/></geometry></collision>
+    <inertial><origin xyz="-0.04 0 0"/><mass value="1.0"/>
+      <inertia ixx="0.00133" ixy="0" ixz="0" iyy="0.00347" iyz="0" izz="0.00453"/></inertial>
+  </link>
+  <link name="skid">
+    <collision><origin rpy="0.7853981633974483 0 0"/><geometry><mesh filename="octahedron.stl"/></geometry></collision>
+  </link>
+  <joint name="skid_joint" type="fixed">
+    <parent link="base_link"/><child link="skid"/><origin xyz="-0.15 0 {:.9f}"/>
+  </joint>)", -0.045 + kSkidR / std::sqrt(2.0)) + wheel_xml("left", 0.08) + wheel_xml("right", -0.08) +
+                                  caster_xml(0.0, -0.1) + R"(
+</robot>
+)";
+
+struct Rest {
+  double pitch_rad = 0;   // the chassis's nose down, positive
+  double lowest_m = 0;    // the skid's lowest point above the ground
+  double predicted_rad = 0;
+};
+
+// The robot settled with its skid's collision `replace`d: its pitch, and the one predicted from the
+// skid's shape as imported (the pitch about the axle that puts its lowest point on the ground).
+Rest settle_on_skid(const std::string& replace) {
+  TempDir dir;
+  write_text(dir.path() / "octahedron.stl", octahedron_stl(kSkidR));
+  write_text(dir.path() / "robot.urdf", kSkidUrdf);
+  const ProjectDesc project = project_from_xml(project_xml(R"(step="0.001" solver_iterations="200")", "", R"(
+  <robot name="skidder" urdf=")" + (dir.path() / "robot.urdf").string() + R"(">
+    <wheel name="left" joint="left_wheel_joint" material="rubber"/>
+    <wheel name="right" joint="right_wheel_joint" material="rubber"/>
+    <caster link="caster"/>  <!-- a differential robot needs one: this one is up in the air, 10 cm above base_link -->
+    <collision link="skid" max_triangles="4" replace=")" + replace + R"("/>
+    <motor name="left" wheels="left" stall_torque="0.6" no_load_rpm="160" gear_friction="0.02"/>
+    <motor name="right" wheels="right" stall_torque="0.6" no_load_rpm="160" gear_friction="0.02"/>
+  </robot>)"));
+  const RobotDesc& robot = project.robots[0];
+  EXPECT_EQ(robot.chassis.parts.size(), 2u);
+  const ShapeDesc& skid = robot.chassis.parts.back();
+  // Its points in the chassis frame: the hull's corners, or the box's.
+  std::vector<Eigen::Vector3d> points;
+  if (skid.kind == ShapeDesc::Kind::Mesh)
+    for (const auto& v : skid.mesh.vertices) points.push_back(skid.position_m + skid.rotation * v.cast<double>());
+  else
+    for (int k = 0; k < 8; ++k)
+      points.push_back(skid.position_m + skid.rotation * (0.5 * Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1,
+                                                                                k & 4 ? 1 : -1))
+                                                             .cwiseProduct(skid.size_m));
+  // Turned by theta about the axle (nose down), a point q from the axle is at -q.x sin + q.z cos
+  // below it; the lowest must reach the wheels' radius. Bisection: the height rises with theta.
+  const Eigen::Vector3d axle = robot.wheels[0].position_m;
+  const double radius = robot.wheels[0].radius_m;
+  const auto lowest_at = [&](double theta) {
+    double lowest = 1e9;
+    for (const auto& p : points)
+      lowest = std::min(lowest, -(p.x() - axle.x()) * std::sin(theta) + (p.z() - axle.z()) * std::cos(theta));
+    return lowest + radius;
+  };
+  Rest rest;
+  double lo = -0.3, hi = 0.5;
+  for (int k = 0; k < 60; ++k) (lowest_at(0.5 * (lo + hi)) < 0 ? lo : hi) = 0.5 * (lo + hi);
+  rest.predicted_rad = 0.5 * (lo + hi);
+
+  Simulation sim(project, 1);
+  run_for(sim, 1.0);
+  Vehicle& v = sim.robot(0);
+  const dReal* r = dBodyGetRotation(v.chassis_body());
+  rest.pitch_rad = std::asin(-r[8]);  // the chassis x axis's height: -sin(pitch)
+  rest.lowest_m = 1e9;
+  for (const auto& p : points) {
+    dVector3 w;
+    dBodyGetRelPointPos(v.chassis_body(), p.x(), p.y(), p.z(), w);
+    rest.lowest_m = std::min(rest.lowest_m, static_cast<double>(w[2]));
+  }
+  EXPECT_LT(v.state().velocity_mps.norm(), 1e-3);
+  return rest;
+}
+
+// The skid's hull is what touches the ground: the chassis rests level on it, where its bounding
+// box would tip the nose down by 8 degrees.
+TEST(UrdfRun, AHullSkidRestsWhereItsHullSaysAndABoxSkidWhereItsBoxSays) {
+  const Rest hull = settle_on_skid("hull");
+  const Rest box = settle_on_skid("box");
+  // The hull's lowest edge was placed level with the wheels' bottoms.
+  EXPECT_NEAR(hull.predicted_rad, 0.0, 1e-6);
+  // The box's reaches 21.2 mm lower, 150 mm behind the axle: about asin(0.0212 / 0.15), turned.
+  EXPECT_GT(box.predicted_rad, 0.12);
+  // ODE's contacts let a resting body sink up to its surface layer, 0.5 mm (physics_world; the
+  // contacts' own give under 10 N is 0.2 um): the skid's lowest point lies within 0.5 mm of the
+  // ground, and the pitch within 0.5 mm over the 150 mm from the axle, 3.3e-3 rad, of the prediction.
+  for (const Rest& rest : {hull, box}) {
+    EXPECT_NEAR(rest.lowest_m, 0.0, 5e-4);
+    EXPECT_NEAR(rest.pitch_rad, rest.predicted_rad, 5e-4 / 0.15);
+  }
+  EXPECT_GT(box.pitch_rad - hull.pitch_rad, 0.1);
 }
 
 // The avoider, unmodified, drives the imported robot through the avoider's own scenario.

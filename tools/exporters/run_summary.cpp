@@ -61,6 +61,8 @@ std::string summary_text(const Simulation& sim, const RunOutcome& o) {
                                           : "");
   for (const auto& n : o.wiring)
     out += fmt::format("  {}: {}\n", n.kind == WiringNote::Kind::Unused ? "wiring" : "pin note", n.text);
+  for (const auto& [at, text] : o.import_warnings)
+    out += fmt::format("  import warning: {}:{}: {}\n", at.file, at.line, text);
   for (const auto& port : o.host_ports)
     out += fmt::format("  {} on the host: {}{}{}\n", port.name, port.path, port.link.empty() ? "" : " (link " + port.link + ")",
                        port.dropped ? fmt::format(", {} dropped", port.dropped) : "");
@@ -137,6 +139,9 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
   j["wiring"] = nlohmann::ordered_json::array();
   for (const auto& n : o.wiring)
     j["wiring"].push_back({{"mcu", n.mcu}, {"kind", kind_name(n.kind)}, {"device", n.device}, {"pin", n.pin}, {"text", n.text}});
+  j["import_warnings"] = nlohmann::ordered_json::array();
+  for (const auto& [at, text] : o.import_warnings)
+    j["import_warnings"].push_back({{"file", at.file}, {"line", at.line}, {"text", text}});
   j["host_ports"] = nlohmann::ordered_json::array();
   for (const auto& port : o.host_ports) j["host_ports"].push_back({{"name", port.name}, {"path", port.path}, {"link", port.link}, {"dropped", port.dropped}});
   // Names are checked UTF-8 at load, but paths from the command line are the user's bytes: any

@@ -45,6 +45,9 @@ struct RunOutcome {
   std::vector<std::pair<std::string, std::string>> avr_reports;
   // Wiring that does not match what the firmware did (runtime/wiring_report.hpp), per MCU in order.
   std::vector<WiringNote> wiring;
+  // What importing a URDF robot decided on its own (a snapped rpy, a derived inertia, a mesh
+  // boxed), each at its file and line: printed before the run starts, kept here for tools.
+  std::vector<std::pair<SourceRef, std::string>> import_warnings;
 };
 
 // "mcu rover.main crashed with signal 11 (...) at sim time 1.234 s; last HAL call: adc_read"

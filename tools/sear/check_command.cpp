@@ -6,6 +6,7 @@
 #include "runtime/simulation.hpp"
 #include "scene/project_loader.hpp"
 #include "sear/commands.hpp"
+#include "sear/urdf_options.hpp"
 
 namespace sear {
 namespace {
@@ -14,12 +15,11 @@ void print_count(const std::string& path, std::size_t errors) {
   fmt::print(stderr, "{}: {} error{}\n", path, errors, errors == 1 ? "" : "s");
 }
 
-// What importing each URDF decided: its warnings, and every mesh's extent in metres (a wrong
+// What importing each URDF decided: every mesh's extent in metres (a wrong
 // unit shows at once: a 0.3 m chassis read as 300 m) with what became of it.
 void print_urdf_imports(const ProjectDesc& project) {
   for (const auto& robot : project.robots) {
     if (robot.urdf.file.empty()) continue;
-    for (const auto& [at, text] : robot.urdf.warnings) fmt::print(stderr, "{}:{}: warning: {}\n", at.file, at.line, text);
     fmt::print("robot '{}' from {}: {:.4g} kg, {} wheel{}, {} caster{}, {} collision shape{} on the chassis\n", robot.name,
                robot.urdf.file, robot.chassis.mass_kg, robot.wheels.size(), robot.wheels.size() == 1 ? "" : "s",
                robot.casters.size(), robot.casters.size() == 1 ? "" : "s", robot.chassis.parts.size(),
@@ -32,6 +32,16 @@ void print_urdf_imports(const ProjectDesc& project) {
 
 }  // namespace
 
+std::vector<std::pair<SourceRef, std::string>> print_import_warnings(const ProjectDesc& project) {
+  std::vector<std::pair<SourceRef, std::string>> all;
+  for (const auto& robot : project.robots)
+    for (const auto& [at, text] : robot.urdf.warnings) {
+      fmt::print(stderr, "{}:{}: warning: {}\n", at.file, at.line, text);
+      all.emplace_back(at, text);
+    }
+  return all;
+}
+
 std::size_t print_world_errors(const std::string& path, const std::string& text) {
   Diagnostics placement;
   std::istringstream lines(text);
@@ -42,13 +52,14 @@ std::size_t print_world_errors(const std::string& path, const std::string& text)
   return placement.count();
 }
 
-int check_command(const std::string& project) {
+int check_command(const std::string& project, const std::vector<std::string>& packages,
+                  const std::vector<std::string>& args) {
   Diagnostics diagnostics;
   // A scenario names its project; a project is checked with its own <expect>, if any.
   const std::string argument = resolve_project_path(project);
   const auto scenario = load_scenario(argument, diagnostics);
   const std::string path = scenario ? scenario->project_file : argument;
-  auto loaded = scenario ? load_project(path, diagnostics) : std::nullopt;
+  auto loaded = scenario ? load_project(path, diagnostics, urdf_overrides(packages, args)) : std::nullopt;
   fmt::print(stderr, "{}", diagnostics.warnings_joined());
   if (!loaded || !check_scenario(*scenario, *loaded, diagnostics)) {
     fmt::print(stderr, "{}", diagnostics.joined());
@@ -74,6 +85,7 @@ int check_command(const std::string& project) {
   const auto count = [](std::size_t n, const char* one, const char* many) {
     return fmt::format("{} {}", n, n == 1 ? one : many);
   };
+  print_import_warnings(*loaded);
   print_urdf_imports(*loaded);
   const WorldDesc& w = loaded->world;
   fmt::print("{}: ok ({}, {}, {}, {}, {})\n", path, count(loaded->robots.size(), "robot", "robots"),

@@ -44,6 +44,8 @@ struct RunOptions {
   double view_wait_page_s = 0;          // `run --view-wait S`: hold at t = 0 until a page connects
   std::string replay;                   // write the run's replay here (--replay)
   double replay_rate_hz = 20;           // its frames per simulated second (--replay-rate)
+  std::vector<std::string> urdf_packages;  // --package NAME=DIR for every URDF robot (urdf_options.hpp)
+  std::vector<std::string> urdf_args;      // --arg NAME=VALUE
 };
 
 // `sear run`'s exit code when an expectation failed (1: bad input, 3: an MCU stopped, 4: physics
@@ -66,14 +68,19 @@ int cross_check_command(const RunOptions& options);
 int view_replay_command(const std::string& file, const std::string& bind, int port);
 
 struct ProjectDesc;
+struct SourceRef;
 // Builds the firmware of every MCU that names C sources (cached) and records the executable in its
 // description. Throws FirmwareBuildError with the compiler's messages.
 void build_project_firmware(ProjectDesc& project, bool quiet);
-int check_command(const std::string& project);
+// `packages` and `args`: the --package and --arg values (urdf_options.hpp).
+int check_command(const std::string& project, const std::vector<std::string>& packages = {},
+                  const std::vector<std::string>& args = {});
 // Lists the device kinds of the table, with their wiring and parameters: as text, as a JSON list
 // (one object per kind, for tools) or as docs/project.md's Markdown reference.
 enum class SensorsFormat { Text, Json, Markdown };
 int sensors_command(SensorsFormat format);
+// Prints each URDF robot's import warnings ("file:line: warning: ...") on stderr, and returns them.
+std::vector<std::pair<SourceRef, std::string>> print_import_warnings(const ProjectDesc& project);
 // Prints the world-building errors in `text` (one per line), the first hundred and a count, as
 // the loader's; returns how many there were.
 std::size_t print_world_errors(const std::string& path, const std::string& text);
@@ -88,6 +95,7 @@ struct TestOptions {
   std::string out_dir = "sear-test-out";
   std::optional<double> timeout_s;     // passed on to each run
   std::vector<std::string> merge;      // OUT IN...: join shard reports instead of running
+  std::vector<std::string> urdf_packages, urdf_args;  // --package and --arg, passed on to each run
 };
 }  // namespace sear
 namespace CLI {

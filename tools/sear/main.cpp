@@ -9,6 +9,7 @@
 #include "scene/description.hpp"
 #include "lcm/lcm_channels.hpp"
 #include "sear/commands.hpp"
+#include "sear/urdf_options.hpp"
 
 namespace {
 
@@ -66,6 +67,7 @@ int main(int argc, char** argv) {
                       "Trace rows per simulated second, rounded to whole steps (default: the project's)")
       ->check(finite_number(sear::kMinTraceRate_hz, sear::kMaxTraceRate_hz, false, "a rate of 0.01..1e6 Hz"));
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing but errors");
+  sear::add_urdf_options(run_cmd, run.urdf_packages, run.urdf_args);
   run_cmd->add_option("--engine", run.engine,
                       "Run every MCU on this engine: native (the firmware as a host process) or avr (its "
                       "ATmega2560 image, instruction by instruction on libsimavr); default: each <mcu engine>")
@@ -208,10 +210,13 @@ int main(int argc, char** argv) {
       ->type_name("DEVICE");
   view_cmd->add_option("--can", view.cans, "Bridge a CAN bus to SocketCAN (as `sear run`)")->type_name("[BUS=]IFACE");
   view_cmd->add_flag("!--no-plots", view.plots, "Do not draw the plots after the run");
+  sear::add_urdf_options(view_cmd, view.urdf_packages, view.urdf_args);
 
   std::string check_project;
   CLI::App* check_cmd = app.add_subcommand("check", "Validate a project without running it; lists every error found");
   check_cmd->add_option("project", check_project, "Project file, or a folder holding project.xml")->required();
+  std::vector<std::string> check_packages, check_args;
+  sear::add_urdf_options(check_cmd, check_packages, check_args);
 
   CLI::App* sensors_cmd =
       app.add_subcommand("sensors", "List every sensor and device a project's <mcu> can hold, with its wiring and parameters");
@@ -250,5 +255,5 @@ int main(int argc, char** argv) {
     return sear::run_command(view);
   }
   if (sensors_cmd->parsed()) return sear::sensors_command(sensors_format);
-  return sear::check_command(check_project);
+  return sear::check_command(check_project, check_packages, check_args);
 }

@@ -33,6 +33,7 @@
 #include "sear/firmware_builder.hpp"
 #include "sear/host_ports.hpp"
 #include "sear/run_folder.hpp"
+#include "sear/urdf_options.hpp"
 #include "lcm/lcm_bridge.hpp"
 #include "sear/view_command.hpp"
 #include "view/replay_file.hpp"
@@ -125,12 +126,14 @@ int run_command(const RunOptions& options) {
     return 1;
   }
   const std::string path = scenario->project_file;
-  auto project = load_project(path, diagnostics);
+  auto project = load_project(path, diagnostics, urdf_overrides(options.urdf_packages, options.urdf_args));
   fmt::print(stderr, "{}", diagnostics.warnings_joined());
   if (!project || !check_scenario(*scenario, *project, diagnostics)) {
     fmt::print(stderr, "{}", diagnostics.joined());
     return 1;
   }
+  // Once, before the run starts (a reset does not load again), and into the summary.
+  const auto import_warnings = print_import_warnings(*project);
   if (options.timeout_s) scenario->timeout_ns = std::llround(*options.timeout_s * 1e9);
   const bool expecting = !scenario->expectations.empty();
   // With expectations the run lasts until their timeout, unless told otherwise.
@@ -401,6 +404,7 @@ int run_command(const RunOptions& options) {
     // Once, at the end, where the user looks: a run that completed can still have been useless.
     for (const auto& note : outcome.wiring)
       fmt::print(stderr, "sear: {}: {}\n", note.kind == WiringNote::Kind::Unused ? "wiring" : "note", note.text);
+    outcome.import_warnings = import_warnings;
     outcome.project_file = path;
     outcome.project_name = project->name;
     outcome.seed = project->run.seed;

@@ -23,6 +23,7 @@
 #include "sear/test_plan.hpp"
 #include "sear/test_report.hpp"
 #include "sear/test_runner.hpp"
+#include "sear/urdf_options.hpp"
 
 namespace sear {
 namespace fs = std::filesystem;
@@ -46,7 +47,8 @@ struct ScenarioInfo {
   std::uint64_t seed = RunDesc{}.seed;
 };
 
-ScenarioInfo scenario_info(const fs::path& dir, const FoundScenario& found, bool own_seed) {
+ScenarioInfo scenario_info(const fs::path& dir, const FoundScenario& found, bool own_seed,
+                           const UrdfOverrides& overrides) {
   ScenarioInfo info;
   const fs::path rel = found.project_folder ? fs::path(found.path) / "project.xml" : fs::path(found.path);
   info.file = rel.lexically_normal().generic_string();
@@ -60,7 +62,7 @@ ScenarioInfo scenario_info(const fs::path& dir, const FoundScenario& found, bool
   if (scenario->seed) {
     info.seed = *scenario->seed;
   } else if (own_seed) {
-    if (const auto project = load_project(scenario->project_file, diagnostics)) info.seed = project->run.seed;
+    if (const auto project = load_project(scenario->project_file, diagnostics, overrides)) info.seed = project->run.seed;
   }
   return info;
 }
@@ -127,8 +129,13 @@ int suite_command(const TestOptions& options) {
   // Canonical: every run's files name it so, and the report's paths are made relative to it.
   const fs::path dir = fs::canonical(options.dir);
   const fs::path out = fs::absolute(options.out_dir).lexically_normal();
+  // The runs work in the suite's folder: the overrides' folders are absolute.
+  const UrdfOverrides overrides = urdf_overrides(options.urdf_packages, options.urdf_args);
+  std::vector<std::string> override_args;
+  for (const auto& [name, folder] : overrides.packages) override_args.insert(override_args.end(), {"--package", name + "=" + folder});
+  for (const auto& [name, value] : overrides.args) override_args.insert(override_args.end(), {"--arg", name + "=" + value});
   std::vector<UnloadableFile> unloadable;
-  const auto found = find_scenarios(dir, out, unloadable);
+  const auto found = find_scenarios(dir, out, unloadable, overrides);
   if (found.empty() && unloadable.empty())
     throw std::invalid_argument(fmt::format(
         "{}: no scenario found (a *.xml with a <scenario> root, or a folder whose project.xml has an <expect>)",
@@ -149,7 +156,7 @@ int suite_command(const TestOptions& options) {
       broken.push_back(i);
       continue;
     }
-    if (!known[c.scenario]) infos[c.scenario] = scenario_info(dir, found[c.scenario], !seeds);
+    if (!known[c.scenario]) infos[c.scenario] = scenario_info(dir, found[c.scenario], !seeds, overrides);
     known[c.scenario] = true;
     const ScenarioInfo& info = infos[c.scenario];
     FinishedCase& f = finished[i];
@@ -165,6 +172,7 @@ int suite_command(const TestOptions& options) {
     // draws them for the case a person looks at.
     run.argv = {self, "run", f.scenario_path, "--seed", std::to_string(f.seed), "--junit", f.junit, "-q", "--no-plots", "-o",
                 (out / f.scenario_path / fmt::format("seed-{}", f.seed)).lexically_normal().string()};
+    run.argv.insert(run.argv.end(), override_args.begin(), override_args.end());
     if (options.timeout_s) {
       run.argv.push_back("--timeout");
       run.argv.push_back(fmt::format("{}", *options.timeout_s));
@@ -218,6 +226,8 @@ int suite_command(const TestOptions& options) {
                                                                                .generic_string()),
                                       f.seed);
       if (options.timeout_s) repro += fmt::format(" --timeout {}", *options.timeout_s);
+      for (std::size_t k = 0; k + 1 < override_args.size(); k += 2)
+        repro += fmt::format(" {} {}", override_args[k], shell_word(override_args[k + 1]));
       fmt::print("    reproduce: {}\n", repro);
     }
     std::fflush(stdout);
@@ -271,7 +281,9 @@ CLI::App* add_test_subcommand(CLI::App& app, TestOptions& options) {
                                        "writes it; exit code 5 when it holds a failure")
                            ->type_name("OUT IN")
                            ->expected(2, 1 << 20);
-  for (const char* other : {"dir", "--seeds", "--shard", "--junit", "--timeout"}) merge->excludes(other);
+  add_urdf_options(cmd, options.urdf_packages, options.urdf_args);
+  for (const char* other : {"dir", "--seeds", "--shard", "--junit", "--timeout", "--package", "--arg"})
+    merge->excludes(other);
   cmd->footer("Exit code 0 when every case passed, 5 when one failed or could not be run, 1 on bad input.");
   return cmd;
 }

@@ -50,7 +50,7 @@ constexpr std::uint64_t kMaxSeeds = 1000000;
 }  // namespace
 
 std::vector<FoundScenario> find_scenarios(const fs::path& dir, const fs::path& skip,
-                                          std::vector<UnloadableFile>& unloadable) {
+                                          std::vector<UnloadableFile>& unloadable, const UrdfOverrides& overrides) {
   std::vector<FoundScenario> found;
   std::error_code ec;
   const fs::path skip_canonical = fs::weakly_canonical(skip, ec);
@@ -78,7 +78,7 @@ std::vector<FoundScenario> find_scenarios(const fs::path& dir, const fs::path& s
       found.push_back({relative_to(dir, p.parent_path()), true});
     } else if (kind == "project") {
       // No scenario of its own, so no run would read it: loaded here, so that its mistakes show.
-      if (!load_project(p.string(), diagnostics)) unloadable.push_back({relative_to(dir, p), diagnostics.joined()});
+      if (!load_project(p.string(), diagnostics, overrides)) unloadable.push_back({relative_to(dir, p), diagnostics.joined()});
     }
   }
   std::sort(found.begin(), found.end(),

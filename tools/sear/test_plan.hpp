@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "scene/urdf_overrides.hpp"
+
 namespace sear {
 
 // One scenario under the suite's folder: a *.xml file whose root is <scenario>, or a folder whose
@@ -28,9 +30,9 @@ struct UnloadableFile {
 
 // Every scenario under `dir`, sorted by path (byte order), so every machine lists the same suite;
 // the files that do not load in `unloadable`, sorted the same way. Hidden folders and `skip` (the
-// output folder, when it lies inside) are not searched.
+// output folder, when it lies inside) are not searched. Projects load with `overrides` (--package, --arg).
 std::vector<FoundScenario> find_scenarios(const std::filesystem::path& dir, const std::filesystem::path& skip,
-                                          std::vector<UnloadableFile>& unloadable);
+                                          std::vector<UnloadableFile>& unloadable, const UrdfOverrides& overrides = {});
 
 struct SeedRange {
   std::uint64_t first = 0;
