@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "../command_output.hpp"
 #include "../temp_dir.hpp"
 #include "../test_world.hpp"
 #include "scene/project_loader.hpp"
@@ -185,12 +186,13 @@ TEST(UrdfJoint, ServoTurnsItsJointToThePulsesAngle) {
   </link>
   <joint name="pan_joint" type="revolute"><parent link="base_link"/><child link="head"/>
     <origin xyz="0 0 0.025"/><axis xyz="0 0 1"/><limit lower="-1.2" upper="1.2" effort="2" velocity="10"/></joint>)",
-          R"(<servo name="pan" joint="pan_joint" range_deg="160" speed_s_per_60deg="0.2" torque="0.5"/>)");
+          R"(<servo name="pan" joint="pan_joint" range_deg="160" speed_s_per_60deg="0.2" torque="0.5"/>
+    <script><servo t="0" name="pan" pulse_us="1750"/><servo t="1" name="pan" pulse_us="2000"/></script>)");
   Vehicle& v = rig.sim->robot(0);
   const ArticulatedJoint& j = rig.joint("pan_joint");
   const ServoDesc& servo = rig.project.robots[0].servos[0];
+  // The script's pulses reach the servo as an MCU's would (Vehicle::command_servo).
   const double target = 0.5 * (80 * kDegToRad);  // 1750 us: half way from centre to the 80 degree end
-  v.command_servo(0, 1750);
   double fastest = 0;
   run_for(*rig.sim, 0.05, [&] { fastest = std::max(fastest, std::abs(j.rate())); });
   // The servo's output slews at s = 60 degrees per 0.2 s; the joint's loop (gain k = 20 /s)
@@ -210,8 +212,7 @@ TEST(UrdfJoint, ServoTurnsItsJointToThePulsesAngle) {
   const dReal* cart = dBodyGetRotation(v.chassis_body());
   const double yaw = std::atan2(head[4], head[0]) - std::atan2(cart[4], cart[0]);
   EXPECT_NEAR(yaw, target, 1e-4);
-  // Past the joint's stop the servo's target is held at the stop: 2000 us asks 80 degrees.
-  v.command_servo(0, 2000);
+  // Past the joint's stop the servo's target is held at the stop: 2000 us, from 1 s, asks 80 degrees.
   run_for(*rig.sim, 1.0);
   EXPECT_NEAR(j.position(), 1.2, 1e-3);
 }
@@ -257,6 +258,54 @@ TEST(UrdfJoint, SliderStopsAtItsUpperLimit) {
   EXPECT_NEAR(j.position(), 0.08, 1e-5);
   const double now = dBodyGetPosition(j.body())[2] - dBodyGetPosition(v.chassis_body())[2];
   EXPECT_NEAR(start - now, 0.08, 1e-4);  // 80 mm lower against the cart, which settled on its tyres meanwhile
+}
+
+TEST(UrdfJoint, ServoOnASliderOrAMissingJointIsRefusedAtItsLine) {
+  TempDir dir;
+  const std::string urdf = (dir.path() / "rig.urdf").string();
+  write_text(urdf, rig_urdf(R"(
+  <link name="block"><inertial><mass value="0.1"/><inertia ixx="1.5e-5" ixy="0" ixz="0" iyy="1.5e-5" iyz="0" izz="1.5e-5"/></inertial></link>
+  <joint name="lift_joint" type="prismatic"><parent link="base_link"/><child link="block"/>
+    <axis xyz="0 0 1"/><limit lower="0" upper="0.1" effort="10" velocity="1"/></joint>)"));
+  const std::string project = project_xml("", "", R"(
+  <robot name="rig" urdf=")" + urdf + R"(">
+    <wheel name="left" joint="left_wheel_joint"/>
+    <wheel name="right" joint="right_wheel_joint"/>
+    <caster link="front_caster"/>
+    <servo name="lift" joint="lift_joint"/>
+    <servo name="wrist" joint="lift_jiont"/>
+  </robot>)");
+  Diagnostics diagnostics;
+  EXPECT_FALSE(load_project_text(project, (dir.path() / "p.xml").string(), diagnostics));
+  const std::string all = diagnostics.joined();
+  const Diagnostic* e = find_error(diagnostics, "servo 'lift' turns joint 'lift_joint', which is prismatic");
+  ASSERT_NE(e, nullptr) << all;
+  EXPECT_EQ(e->line, line_of(project, "<servo name=\"lift\""));
+  e = find_error(diagnostics, "servo 'wrist' turns joint 'lift_jiont', which is not a live joint");
+  ASSERT_NE(e, nullptr) << all;
+  EXPECT_NE(e->message.find("(did you mean 'lift_joint'?)"), std::string::npos) << all;
+}
+
+TEST(UrdfJoint, CheckListsEachLiveJoint) {
+  TempDir dir;
+  const std::string urdf = (dir.path() / "rig.urdf").string();
+  write_text(urdf, rig_urdf(bob_xml("0 0.15 0", "revolute", R"(<limit lower="-1.0" upper="0.5" effort="0.2" velocity="3"/>)",
+                                    R"(<dynamics damping="0.01" friction="0.02"/>)")));
+  const std::string project = (dir.path() / "p.xml").string();
+  write_text(project, project_xml("", "", R"(
+  <robot name="rig" urdf=")" + urdf + R"(">
+    <wheel name="left" joint="left_wheel_joint"/>
+    <wheel name="right" joint="right_wheel_joint"/>
+    <caster link="front_caster"/>
+    <servo name="arm" joint="bob_joint" torque="0.5" speed_s_per_60deg="0.1"/>
+  </robot>)"));
+  const CommandOutput out = command_output(std::string(SEAR_BINARY) + " check " + project + " 2>&1");
+  ASSERT_EQ(out.exit_code, 0) << out.out;
+  // The servo's 0.5 N*m and 10.5 rad/s, capped by the URDF's effort and velocity.
+  EXPECT_NE(out.out.find("  joint bob_joint: a live hinge carrying link 'bob' (0.2 kg), turned by servo 'arm' (0.2 N*m, "
+                         "3 rad/s), stops -1..0.5 rad, damping 0.01 N*m*s/rad, friction 0.02 N*m"),
+            std::string::npos)
+      << out.out;
 }
 
 }  // namespace
