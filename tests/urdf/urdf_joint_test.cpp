@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "../command_output.hpp"
+#include "../firmware_run.hpp"
 #include "../temp_dir.hpp"
 #include "../test_world.hpp"
 #include "scene/project_loader.hpp"
@@ -306,6 +307,34 @@ TEST(UrdfJoint, CheckListsEachLiveJoint) {
                          "3 rad/s), stops -1..0.5 rad, damping 0.01 N*m*s/rad, friction 0.02 N*m"),
             std::string::npos)
       << out.out;
+}
+
+TEST(UrdfJoint, TraceCarriesEachLiveJointsPositionTheSameEachRun) {
+  TempDir dir;
+  const std::string urdf = (dir.path() / "rig.urdf").string();
+  write_text(urdf, rig_urdf(bob_xml("0 0.15 0", "revolute", R"(<limit lower="-1.0" upper="0.5" effort="1" velocity="20"/>)")));
+  const std::string project = project_xml(R"(step="0.001" solver_iterations="200")", "", R"(
+  <run duration="1" seed="1" trace_rate="10"/>
+  <robot name="rig" urdf=")" + urdf + R"(">
+    <wheel name="left" joint="left_wheel_joint"/>
+    <wheel name="right" joint="right_wheel_joint"/>
+    <caster link="front_caster"/>
+  </robot>)");
+  TempDir first_dir, second_dir;
+  const SearRun first = run_sear(first_dir, project, "--quiet");
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const std::vector<std::string> rows = lines_of(first.file("trace_rig.csv"));
+  ASSERT_GE(rows.size(), 2u);
+  const std::string& header = rows.front();
+  const std::string column = ",joint_bob_joint_pos";
+  ASSERT_GE(header.size(), column.size());
+  EXPECT_EQ(header.substr(header.size() - column.size()), column) << header;
+  // On its stop at the end (PassiveHingeFallsOntoItsStopAndStaysThere), printed to 1e-6.
+  const std::string& last = rows.back();
+  EXPECT_NEAR(std::stod(last.substr(last.rfind(',') + 1)), -1.0, 1e-4) << last;
+  const SearRun second = run_sear(second_dir, project, "--quiet");
+  ASSERT_EQ(second.exit_code, 0) << second.err;
+  EXPECT_EQ(first.file("trace_rig.csv"), second.file("trace_rig.csv"));
 }
 
 }  // namespace
