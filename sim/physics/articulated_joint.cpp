@@ -45,6 +45,23 @@ dGeomID attach_shape(PhysicsWorld& physics, const ShapeDesc& part, dBodyID body)
   return g;
 }
 
+double depth_below(const ShapeDesc& s, const Eigen::Matrix3d& rotation) {
+  const Eigen::Vector3d down = (rotation * s.rotation).row(2);  // world z in the shape's axes
+  switch (s.kind) {
+    case ShapeDesc::Kind::Box:
+      return 0.5 * s.size_m.cwiseProduct(down.cwiseAbs()).sum();
+    case ShapeDesc::Kind::Cylinder:
+      return std::abs(down.z()) * 0.5 * s.size_m.z() + s.size_m.x() * std::sqrt(std::max(0.0, 1 - down.z() * down.z()));
+    case ShapeDesc::Kind::Sphere:
+      return s.size_m.x();
+    case ShapeDesc::Kind::Mesh:
+      break;
+  }
+  double depth = 0;
+  for (const auto& v : s.mesh.vertices) depth = std::max(depth, -down.dot(v.cast<double>()));
+  return depth;
+}
+
 ArticulatedJoint::ArticulatedJoint(PhysicsWorld& physics, const JointLinkDesc& desc, dBodyID parent,
                                    const Eigen::Isometry3d& robot_pose, int entity)
     : hinge_(desc.kind == JointLinkDesc::Kind::Hinge),

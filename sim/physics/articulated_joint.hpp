@@ -14,6 +14,9 @@ namespace sear {
 // A collision shape fixed to `body`, placed in its frame; tagged by the caller.
 dGeomID attach_shape(PhysicsWorld& physics, const ShapeDesc& shape, dBodyID body);
 
+// How far below its origin the shape reaches when its frame is turned by `rotation` (z up).
+double depth_below(const ShapeDesc& shape, const Eigen::Matrix3d& rotation);
+
 class ArticulatedJoint {
  public:
   // Builds the link at rest (every joint at zero) for a robot whose chassis frame starts at

@@ -58,6 +58,9 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
   };
   for (const auto& w : desc.wheels) clear(w.position_m, w.radius_m);
   for (const auto& c : desc.casters) clear(c.position_m, c.radius_m);
+  // A live link hanging below the chassis (at rest) starts clear of the ground too.
+  for (const auto& j : desc.joints)
+    for (const auto& part : j.parts) clear(j.position_m + j.rotation * part.position_m, depth_below(part, j.rotation));
   const Eigen::Vector3d origin(xy.x(), xy.y(), origin_z + kSpawnClearance_m);
   const Eigen::Matrix3d yaw = Eigen::AngleAxisd(desc.start_yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 

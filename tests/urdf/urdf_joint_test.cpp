@@ -261,6 +261,15 @@ TEST(UrdfJoint, SliderStopsAtItsUpperLimit) {
   EXPECT_NEAR(start - now, 0.08, 1e-4);  // 80 mm lower against the cart, which settled on its tyres meanwhile
 }
 
+TEST(UrdfJoint, LinkBelowTheChassisStartsClearOfTheGround) {
+  // The ball hangs 0.4 m below its pivot, 0.1 m below base_link, which its wheels would put
+  // 45 mm up: the ball would start 75 mm deep in the ground. The robot starts higher instead,
+  // the ball's bottom on the ground plus the 2 mm spawn clearance (vehicle.cpp).
+  Rig rig(bob_xml("0 0 -0.4", "continuous", ""));
+  const double bottom = dBodyGetPosition(rig.joint("bob_joint").body())[2] - 0.02;
+  EXPECT_NEAR(bottom, 0.002, 1e-9);
+}
+
 TEST(UrdfJoint, ServoOnASliderOrAMissingJointIsRefusedAtItsLine) {
   TempDir dir;
   const std::string urdf = (dir.path() / "rig.urdf").string();
