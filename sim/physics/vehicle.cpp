@@ -58,6 +58,9 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
   };
   for (const auto& w : desc.wheels) clear(w.position_m, w.radius_m);
   for (const auto& c : desc.casters) clear(c.position_m, c.radius_m);
+  // A live link hanging below the chassis (at rest) starts clear of the ground too.
+  for (const auto& j : desc.joints)
+    for (const auto& part : j.parts) clear(j.position_m + j.rotation * part.position_m, depth_below(part, j.rotation));
   const Eigen::Vector3d origin(xy.x(), xy.y(), origin_z + kSpawnClearance_m);
   const Eigen::Matrix3d yaw = Eigen::AngleAxisd(desc.start_yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 
@@ -153,6 +156,15 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
     wheels_.push_back(wheel);
   }
 
+  // A URDF's live joints, parents first, each link hung on its parent's body.
+  Eigen::Isometry3d robot_pose = Eigen::Isometry3d::Identity();
+  robot_pose.translation() = origin;
+  robot_pose.linear() = yaw;
+  for (const auto& j : desc.joints)
+    joints_.emplace_back(physics, j, j.parent < 0 ? chassis_ : joints_[static_cast<std::size_t>(j.parent)].body(),
+                         robot_pose, entity_);
+  for (const auto& j : joints_) geoms_.insert(geoms_.end(), j.geoms().begin(), j.geoms().end());
+
   for (const auto& m : desc.motors) {
     motor_wheels_.emplace_back();
     for (const auto& name : m.wheels) motor_wheels_.back().push_back(wheel_index(name));
@@ -160,6 +172,9 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
   for (const auto& s : desc.servos) {
     servo_wheels_.emplace_back();
     for (const auto& name : s.wheels) servo_wheels_.back().push_back(wheel_index(name));
+    servo_joint_.push_back(-1);
+    for (std::size_t j = 0; j < desc.joints.size(); ++j)
+      if (!s.joint.empty() && desc.joints[j].joint == s.joint) servo_joint_.back() = static_cast<int>(j);
   }
 
   // Each motor acts on its wheels through their joints' motor rows, as a velocity target with a
@@ -215,26 +230,7 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
 }
 
 void Vehicle::add_part(PhysicsWorld& physics, const ShapeDesc& part, int material) {
-  dGeomID g = nullptr;
-  switch (part.kind) {
-    case ShapeDesc::Kind::Box:
-      g = dCreateBox(physics.dynamic_space(), part.size_m.x(), part.size_m.y(), part.size_m.z());
-      break;
-    case ShapeDesc::Kind::Cylinder:
-      g = dCreateCylinder(physics.dynamic_space(), part.size_m.x(), part.size_m.z());
-      break;
-    case ShapeDesc::Kind::Sphere:
-      g = dCreateSphere(physics.dynamic_space(), part.size_m.x());
-      break;
-    case ShapeDesc::Kind::Mesh:
-      g = dCreateTriMesh(physics.dynamic_space(), physics.add_mesh_data(part.mesh), nullptr, nullptr, nullptr);
-      break;
-  }
-  dGeomSetBody(g, chassis_);
-  dGeomSetOffsetPosition(g, part.position_m.x(), part.position_m.y(), part.position_m.z());
-  const Eigen::Matrix3d& m = part.rotation;
-  dMatrix3 r = {m(0, 0), m(0, 1), m(0, 2), 0, m(1, 0), m(1, 1), m(1, 2), 0, m(2, 0), m(2, 1), m(2, 2), 0};
-  dGeomSetOffsetRotation(g, r);
+  dGeomID g = attach_shape(physics, part, chassis_);
   geoms_.push_back(g);
   physics.tag(g, GeomRole::Chassis, entity_, material);
 }
@@ -285,6 +281,7 @@ void Vehicle::freeze() {
   for (auto& p : servo_pulses_) p = 0;
   std::vector<dBodyID> bodies{chassis_};
   for (const auto& w : wheels_) bodies.push_back(w.body);
+  for (const auto& j : joints_) bodies.push_back(j.body());
   for (dBodyID b : bodies) {
     dBodySetLinearVel(b, 0, 0, 0);
     dBodySetAngularVel(b, 0, 0, 0);
@@ -326,6 +323,10 @@ void Vehicle::apply_actuators(double dt_s) {
 
   for (std::size_t s = 0; s < desc_.servos.size(); ++s) {
     const ServoDesc& servo = desc_.servos[s];
+    if (servo_joint_[s] >= 0) {
+      joints_[static_cast<std::size_t>(servo_joint_[s])].follow_servo(servo, servo_pulses_[s], servo_angles_[s], dt_s);
+      continue;
+    }
     if (servo_pulses_[s] <= 0) {
       // Without pulses a hobby servo's driver is off: its output turns freely.
       for (std::size_t w : servo_wheels_[s]) {

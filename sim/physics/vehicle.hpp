@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "physics/articulated_joint.hpp"
 #include "physics/dc_motor.hpp"
 #include "physics/physics_world.hpp"
 
@@ -57,6 +58,9 @@ class Vehicle {
   dBodyID chassis_body() const { return chassis_; }
   dBodyID wheel_body(std::size_t wheel) const { return wheels_[wheel].body; }
   std::size_t wheel_count() const { return wheels_.size(); }
+  // A URDF's live joints (RobotDesc::joints), each with its link's body.
+  const ArticulatedJoint& joint(std::size_t index) const { return joints_[index]; }
+  std::size_t joint_count() const { return joints_.size(); }
 
  private:
   struct Wheel {
@@ -79,6 +83,8 @@ class Vehicle {
   std::vector<Wheel> wheels_;
   std::vector<std::vector<std::size_t>> motor_wheels_;  // indices into wheels_, resolved once
   std::vector<std::vector<std::size_t>> servo_wheels_;
+  std::vector<ArticulatedJoint> joints_;
+  std::vector<int> servo_joint_;  // per servo: the live joint it turns, or -1
   std::vector<DcMotorCommand> motor_commands_;
   std::vector<double> servo_pulses_;
   std::vector<double> servo_angles_;  // positional servos' present output angle

@@ -140,6 +140,8 @@ Simulation::Simulation(const ProjectDesc& project, std::uint64_t seed)
     watched_.push_back({v.chassis_body(), owner, "chassis"});
     for (std::size_t w = 0; w < v.wheel_count(); ++w)
       watched_.push_back({v.wheel_body(w), owner, "wheel '" + robot.wheels[w].name + "'"});
+    for (std::size_t j = 0; j < v.joint_count(); ++j)
+      watched_.push_back({v.joint(j).body(), owner, "link '" + robot.joints[j].link + "'"});
   }
   if (!problems.empty()) {
     std::string all;

@@ -158,6 +158,33 @@ struct WheelDesc {
   double joint_damping_nmps = 0;
 };
 
+// A URDF joint that moves and is no wheel: an ODE hinge (revolute, continuous) or slider
+// (prismatic) between its parent's body and a body of its own, holding its child link and
+// everything fixed below it. Passive unless a servo names it; its limits are stops, its
+// dynamics a viscous and a Coulomb torque (or force).
+struct JointLinkDesc {
+  enum class Kind { Hinge, Slider } kind = Kind::Hinge;
+  std::string joint, link;  // the URDF joint and its child link
+  SourceRef source;         // the joint's line in the URDF
+  int parent = -1;          // -1: the chassis, else an earlier entry of RobotDesc::joints
+  // At rest (every joint at zero), in the robot frame: the body's centre of mass and axes, and
+  // the joint's anchor and unit axis.
+  Eigen::Vector3d position_m{0, 0, 0};
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d anchor_m{0, 0, 0};
+  Eigen::Vector3d axis{1, 0, 0};
+  double mass_kg = 0;
+  Eigen::Matrix3d inertia_kgm2 = Eigen::Matrix3d::Zero();  // about the centre of mass, body axes
+  std::vector<ShapeDesc> parts;                            // collision shapes in the body's frame
+  std::string material = "default";
+  bool limited = false;  // stops at lower and upper (rad or m)
+  double lower = 0, upper = 0;
+  double effort = 0;     // the URDF's <limit effort> (N*m or N), 0: none given
+  double velocity = 0;   // the URDF's <limit velocity> (rad/s or m/s), 0: none given
+  double damping = 0;    // N*m*s/rad or N*s/m
+  double friction = 0;   // N*m or N
+};
+
 // A ball caster: rolls freely in every direction, so its contacts carry no friction.
 struct CasterDesc {
   Eigen::Vector3d position_m{0, 0, 0};
@@ -186,6 +213,7 @@ struct ServoDesc {
   std::string name;
   SourceRef source;
   std::vector<std::string> wheels;  // continuous: the wheels it turns; positional: the wheels it steers
+  std::string joint;                // or a URDF joint it turns (RobotDesc::joints), its neutral at the joint's zero
   double min_pulse_us = 1000;
   double max_pulse_us = 2000;
   double range_rad = 1.0;           // positional: travel between min and max pulse
@@ -301,15 +329,19 @@ struct UrdfImportDesc {
     std::string decision;  // what became of it: "trimesh", "box", "wheel cylinder", ...
   };
   std::vector<Mesh> meshes;
-  // A visual, placed in the frame of its body (-1: the chassis, else a wheel's index).
+  // A visual, placed in the frame of its body (-1: the chassis, else a wheel's index; or, when
+  // `joint` is not -1, the body of RobotDesc::joints[joint]).
   struct Visual {
     int body = -1;
+    int joint = -1;
     std::string link;
     ShapeDesc shape;
     Eigen::Vector4d rgba{0.7, 0.7, 0.7, 1.0};
   };
   std::vector<Visual> visuals;
   std::vector<std::pair<SourceRef, std::string>> warnings;
+  // What became of each joint that moves and is no wheel ("pan_joint: hinge, servo 'pan', ...").
+  std::vector<std::string> joints;
 };
 
 struct RobotDesc {
@@ -322,6 +354,7 @@ struct RobotDesc {
   DriveKind drive = DriveKind::Differential;
   std::vector<WheelDesc> wheels;
   std::vector<CasterDesc> casters;
+  std::vector<JointLinkDesc> joints;  // a URDF's moving links that are no wheels, parents first
   std::vector<MotorDesc> motors;
   std::vector<ServoDesc> servos;
   std::vector<ScriptCommand> script;  // sorted by time

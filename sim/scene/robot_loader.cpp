@@ -101,17 +101,25 @@ MotorDesc read_motor(ElementReader& r) {
   return m;
 }
 
-ServoDesc read_servo(ElementReader& r) {
+// `joints`: a URDF's mapping, where a servo may turn a joint instead of wheels.
+ServoDesc read_servo(ElementReader& r, bool joints = false) {
   ServoDesc s;
   s.source = {r.file(), r.line()};
   s.name = r.required_text("name").value_or("");
   check_name(r, s.name);
   s.kind = r.choice("kind", {"positional", "continuous"}, 0) == 0 ? ServoDesc::Kind::Positional
                                                                    : ServoDesc::Kind::Continuous;
-  s.wheels = r.names(s.kind == ServoDesc::Kind::Positional ? "steers" : "wheels");
-  if (s.wheels.empty())
-    r.error(s.kind == ServoDesc::Kind::Positional ? "<servo kind=\"positional\"> needs 'steers' (wheel names)"
-                                                  : "<servo kind=\"continuous\"> needs 'wheels' (wheel names)");
+  if (joints && r.has("joint")) {
+    s.joint = r.required_text("joint").value_or("");
+    if (r.has(s.kind == ServoDesc::Kind::Positional ? "steers" : "wheels"))
+      r.error("<servo> turns either a 'joint' or wheels, not both");
+  } else {
+    s.wheels = r.names(s.kind == ServoDesc::Kind::Positional ? "steers" : "wheels");
+  }
+  if (s.wheels.empty() && s.joint.empty())
+    r.error(std::string(s.kind == ServoDesc::Kind::Positional ? "<servo kind=\"positional\"> needs 'steers' (wheel names)"
+                                                              : "<servo kind=\"continuous\"> needs 'wheels' (wheel names)") +
+            (joints ? " or 'joint' (a URDF joint it turns)" : ""));
   s.min_pulse_us = r.number("min_pulse_us", s.min_pulse_us, ranges::kPulse, "us");
   s.max_pulse_us = r.number("max_pulse_us", s.max_pulse_us, ranges::kPulse, "us");
   if (s.max_pulse_us <= s.min_pulse_us) r.error("<servo> 'max_pulse_us' must be above 'min_pulse_us'");
@@ -192,7 +200,7 @@ std::string read_robot_material(ElementReader& r, const WorldDesc& world, const 
   return read_material(r, world, diagnostics);
 }
 MotorDesc read_robot_motor(ElementReader& r) { return read_motor(r); }
-ServoDesc read_robot_servo(ElementReader& r) { return read_servo(r); }
+ServoDesc read_robot_servo(ElementReader& r) { return read_servo(r, true); }
 void read_robot_pose(ElementReader& r, const WorldDesc& world, RobotDesc& robot) { read_pose(r, world, robot); }
 void add_robot_material(ElementReader& r, WorldDesc& world) {
   const Material material = read_material_element(r);

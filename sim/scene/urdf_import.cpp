@@ -19,6 +19,7 @@
 #include "scene/mesh_loader.hpp"
 #include "scene/nearest_name.hpp"
 #include "scene/urdf_inertia.hpp"
+#include "scene/urdf_joints.hpp"
 
 namespace sear {
 namespace {
@@ -217,6 +218,7 @@ struct Body {
   std::string joint;            // the moving joint it hangs on (empty: the chassis)
   std::string first_link;
   int wheel = -1;               // index into the mapping's wheels
+  int live = -1;                // or into the robot's live joints (UrdfRobot::joints)
   MassProperties mass;
   std::vector<PlacedShape> collisions;
   std::vector<std::pair<PlacedShape, Eigen::Vector4d>> visuals;
@@ -242,6 +244,7 @@ class Importer {
   double density_for(const std::string& link) const;
   const UrdfMapping::Collision* collision_rule(const std::string& link) const;
   void build_wheel(Body& body, const Iso& to_chassis_com);
+  void build_live(const Body& body, const Iso& to_chassis_com);
 
   std::string path_;
   const UrdfMapping& mapping_;
@@ -473,6 +476,15 @@ void Importer::add_link(const urdf::Link& link, int body, const Iso& in_body, in
 void Importer::visit(const urdf::Link& link, int body, const Iso& in_body, int caster) {
   for (std::size_t k = 0; k < mapping_.casters.size(); ++k)
     if (mapping_.casters[k].link == link.name) caster = static_cast<int>(k);
+  const Body& on = bodies_[static_cast<std::size_t>(body)];
+  if (caster >= 0 && on.live >= 0 && mapping_.casters[static_cast<std::size_t>(caster)].link == link.name) {
+    const auto& m = mapping_.casters[static_cast<std::size_t>(caster)];
+    diagnostics_.error(m.source.file, m.source.line,
+                       fmt::format("caster link '{}' moves with joint '{}': a caster rides on the chassis; make that "
+                                   "joint fixed, or hold it with <freeze>",
+                                   link.name, on.joint));
+    return;
+  }
   add_link(link, body, in_body, caster);
   for (const auto& joint : link.child_joints) {
     const auto child = model_.getLink(joint->child_link_name);
@@ -512,10 +524,32 @@ void Importer::visit(const urdf::Link& link, int body, const Iso& in_body, int c
       continue;
     }
     if (wheel == mapping_.wheels.end()) {
-      error(line, fmt::format("joint '{}' is {} but the mapping does not say what it is: name it in <wheel joint=\"{}\" "
-                              "name=\"...\"/> or hold it with <freeze joint=\"{}\" position=\"...\"/>",
-                              joint->name, prismatic ? "prismatic" : "revolute", joint->name, joint->name));
-      visit(*child, body, at, caster);
+      // Neither a wheel nor held: a live joint, passive unless a servo names it. Its child and
+      // everything fixed below it become a body of their own, hinged or sliding on its parent.
+      const Body& parent = bodies_[static_cast<std::size_t>(body)];
+      if (parent.wheel >= 0) {
+        error(line, fmt::format("joint '{}' hangs from wheel '{}': SEAR's wheel carries nothing that moves; make it "
+                                "fixed, or hold it with <freeze joint=\"{}\"/>",
+                                joint->name, mapping_.wheels[static_cast<std::size_t>(parent.wheel)].name, joint->name));
+        continue;
+      }
+      JointLinkDesc live;
+      live.joint = joint->name;
+      live.link = child->name;
+      live.source = {path_, line};
+      live.parent = parent.live;
+      std::vector<std::string> notes;
+      for (const auto& problem : read_joint_motion(*joint, live, notes))
+        error(line, fmt::format("joint '{}': {}", joint->name, problem));
+      for (const auto& note : notes) warn(line, note);
+      Body b;
+      b.frame = parent.frame * at;
+      b.joint = joint->name;
+      b.first_link = child->name;
+      b.live = static_cast<int>(robot_.joints.size());
+      robot_.joints.push_back(live);
+      bodies_.push_back(b);
+      visit(*child, static_cast<int>(bodies_.size() - 1), Iso::Identity(), caster);
       continue;
     }
     if (prismatic || body != 0) {
@@ -605,7 +639,10 @@ bool Importer::run() {
     shape_points(p.shape, Iso::Identity(), points);
   }
 
-  for (std::size_t i = 1; i < bodies_.size(); ++i) build_wheel(bodies_[i], to_com);
+  for (std::size_t i = 1; i < bodies_.size(); ++i) {
+    if (bodies_[i].wheel >= 0) build_wheel(bodies_[i], to_com);
+    else build_live(bodies_[i], to_com);
+  }
   if (diagnostics_.count() != errors_before) return false;
   std::sort(robot_.wheels.begin(), robot_.wheels.end(), [&](const WheelDesc& a, const WheelDesc& b) {
     const auto index = [&](const WheelDesc& w) {
@@ -675,7 +712,10 @@ bool Importer::run() {
   // Visuals, each in the frame of the body that carries it in the simulation.
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Iso sim_frame = to_com;  // base_link -> the chassis body (at the centre of mass)
-    if (bodies_[i].wheel >= 0) {
+    if (bodies_[i].live >= 0) {
+      // A live link's body has its link's axes, moved to its centre of mass (build_live).
+      sim_frame = Iso(Eigen::Translation3d(-bodies_[i].mass.com_m));
+    } else if (bodies_[i].wheel >= 0) {
       const auto& name = mapping_.wheels[static_cast<std::size_t>(bodies_[i].wheel)].name;
       const auto w = std::find_if(robot_.wheels.begin(), robot_.wheels.end(),
                                   [&](const WheelDesc& d) { return d.name == name; });
@@ -696,6 +736,7 @@ bool Importer::run() {
                                                      }) -
                                         robot_.wheels.begin())
                      : -1;
+      out.joint = bodies_[i].live;
       out.link = v.link;
       out.shape = v.shape;
       out.shape.position_m = sim_frame * v.shape.position_m;
@@ -705,6 +746,26 @@ bool Importer::run() {
     }
   }
   return diagnostics_.count() == errors_before;
+}
+
+void Importer::build_live(const Body& body, const Iso& to_chassis_com) {
+  JointLinkDesc& j = robot_.joints[static_cast<std::size_t>(body.live)];
+  const auto joint = model_.getJoint(body.joint);
+  // ODE wants the body's origin at its centre of mass: the link's axes, moved to it.
+  const Iso link = to_chassis_com * body.frame;
+  const Eigen::Vector3d com = body.mass.com_m;
+  j.position_m = link * com;
+  j.rotation = link.linear();
+  j.anchor_m = link.translation();
+  j.axis = (link.linear() * vec(joint->axis)).normalized();
+  j.mass_kg = body.mass.mass_kg;
+  j.inertia_kgm2 = body.mass.inertia_kgm2;
+  j.material = mapping_.chassis_material;
+  for (const auto& p : body.collisions) {
+    ShapeDesc s = p.shape;
+    s.position_m -= com;
+    j.parts.push_back(s);
+  }
 }
 
 void Importer::build_wheel(Body& body, const Iso& to_chassis_com) {

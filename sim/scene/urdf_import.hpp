@@ -58,7 +58,7 @@ struct UrdfMapping {
 struct UrdfLinkFrame {
   Eigen::Vector3d position_m{0, 0, 0};
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  bool on_chassis = true;  // false: it turns with a wheel
+  bool on_chassis = true;  // false: it moves with a wheel or a live joint
 };
 
 struct UrdfRobot {
@@ -66,6 +66,7 @@ struct UrdfRobot {
   ChassisDesc chassis;
   std::vector<WheelDesc> wheels;  // in the mapping's order
   std::vector<CasterDesc> casters;
+  std::vector<JointLinkDesc> joints;  // moving joints that are no wheels, parents first
   std::map<std::string, UrdfLinkFrame> links;
   UrdfImportDesc report;
 };

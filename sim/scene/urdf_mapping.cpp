@@ -12,6 +12,7 @@
 #include "scene/nearest_name.hpp"
 #include "scene/robot_parts.hpp"
 #include "scene/urdf_import.hpp"
+#include "scene/urdf_joints.hpp"
 #include "scene/value_ranges.hpp"
 
 namespace sear {
@@ -133,7 +134,7 @@ void place_devices(const Mapping& mapping, const UrdfRobot& urdf, Diagnostics& d
       fail(fmt::format("<mount> names link '{}', which the URDF does not have{}", m.link,
                        did_you_mean(diagnostics, m.link, links)));
     else if (!link->second.on_chassis)
-      fail(fmt::format("<mount> link '{}' turns with a wheel; a device rides on the chassis", m.link));
+      fail(fmt::format("<mount> link '{}' moves (with a wheel or a live joint); a device rides on the chassis", m.link));
     else if (found[0]->kind->mount == Mount::None)
       fail(fmt::format("<mount> device '{}' has no position to mount", m.device));
     if (failed) continue;
@@ -147,6 +148,44 @@ void place_devices(const Mapping& mapping, const UrdfRobot& urdf, Diagnostics& d
     d.pitch_rad = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
     d.roll_rad = std::atan2(r(2, 1), r(2, 2));
   }
+}
+
+// Servos that name a URDF joint turn that live hinge: within the URDF's effort and velocity, if
+// it gives them. `sear check` then prints what became of each live joint.
+void attach_joint_servos(const UrdfRobot& urdf, Diagnostics& diagnostics, RobotDesc& robot) {
+  std::vector<std::string> live;
+  for (const auto& j : robot.joints) live.push_back(j.joint);
+  std::vector<const ServoDesc*> turned_by(robot.joints.size(), nullptr);
+  for (auto& s : robot.servos) {
+    if (s.joint.empty()) continue;
+    const auto it = std::find(live.begin(), live.end(), s.joint);
+    if (it == live.end()) {
+      diagnostics.error(s.source.file, s.source.line,
+                        fmt::format("servo '{}' turns joint '{}', which is not a live joint of {} (a wheel's, a "
+                                    "fixed or a held one, or none){}",
+                                    s.name, s.joint, urdf.report.file, did_you_mean(diagnostics, s.joint, live)));
+      continue;
+    }
+    const auto k = static_cast<std::size_t>(it - live.begin());
+    const JointLinkDesc& j = robot.joints[k];
+    if (j.kind == JointLinkDesc::Kind::Slider) {
+      diagnostics.error(s.source.file, s.source.line,
+                        fmt::format("servo '{}' turns joint '{}', which is prismatic: a servo turns, and SEAR has no "
+                                    "linear actuator; the joint slides passively without it, or <freeze> holds it",
+                                    s.name, s.joint));
+      continue;
+    }
+    if (turned_by[k]) {
+      diagnostics.error(s.source.file, s.source.line,
+                        fmt::format("joint '{}' is already turned by servo '{}'", s.joint, turned_by[k]->name));
+      continue;
+    }
+    if (j.effort > 0) s.torque_nm = std::min(s.torque_nm, j.effort);
+    if (j.velocity > 0) s.speed_radps = std::min(s.speed_radps, j.velocity);
+    turned_by[k] = &s;
+  }
+  for (std::size_t k = 0; k < robot.joints.size(); ++k)
+    robot.urdf.joints.push_back(describe_joint(robot.joints[k], turned_by[k]));
 }
 
 }  // namespace
@@ -220,7 +259,9 @@ bool read_urdf_robot(const tinyxml2::XMLElement& element, const std::string& fil
   robot.chassis = urdf.chassis;
   robot.wheels = urdf.wheels;
   robot.casters = urdf.casters;
+  robot.joints = urdf.joints;
   robot.urdf = urdf.report;
+  attach_joint_servos(urdf, diagnostics, robot);
   place_devices(mapping, urdf, diagnostics, robot);
   if (robot.name.empty()) r.error("<robot> needs a 'name' (here or in its URDF)");
   else check_name(r, robot.name);

@@ -327,7 +327,7 @@ TEST(UrdfImport, FloatingAndPlanarJointsAreRefusedAtTheirLine) {
   }
 }
 
-TEST(UrdfImport, UnmappedMovingJointIsRefusedAndAFrozenOneLumped) {
+TEST(UrdfImport, UnmappedMovingJointIsLiveAndAFrozenOneLumped) {
   TempDir dir;
   const std::string text = R"(<robot name="arm">
   <link name="base_link">
@@ -337,19 +337,113 @@ TEST(UrdfImport, UnmappedMovingJointIsRefusedAndAFrozenOneLumped) {
   <joint name="lift_joint" type="prismatic">
     <parent link="base_link"/><child link="lift"/><axis xyz="0 0 1"/>
     <limit lower="0" upper="0.3" effort="10" velocity="0.1"/>
+    <dynamics damping="2" friction="0.5"/>
   </joint>
 </robot>)";
+  // Named neither as a wheel nor held: a passive slider with the URDF's stops and dynamics.
   const Imported in = import_text(dir.path(), text);
-  const Diagnostic* e = find_error(in.diagnostics, "joint 'lift_joint' is prismatic but the mapping does not say");
-  ASSERT_NE(e, nullptr) << in.diagnostics.joined();
-  EXPECT_EQ(e->line, line_of(text, "<joint name=\"lift_joint\""));
+  ASSERT_TRUE(in.ok) << in.diagnostics.joined();
+  ASSERT_EQ(in.robot.joints.size(), 1u);
+  const JointLinkDesc& j = in.robot.joints[0];
+  EXPECT_EQ(j.kind, JointLinkDesc::Kind::Slider);
+  EXPECT_EQ(j.link, "lift");
+  EXPECT_EQ(j.source.line, line_of(text, "<joint name=\"lift_joint\""));
+  EXPECT_TRUE(j.limited);
+  EXPECT_DOUBLE_EQ(j.lower, 0.0);
+  EXPECT_DOUBLE_EQ(j.upper, 0.3);
+  EXPECT_DOUBLE_EQ(j.effort, 10.0);
+  EXPECT_DOUBLE_EQ(j.velocity, 0.1);
+  EXPECT_DOUBLE_EQ(j.damping, 2.0);
+  EXPECT_DOUBLE_EQ(j.friction, 0.5);
+  EXPECT_DOUBLE_EQ(j.mass_kg, 1.0);
+  EXPECT_DOUBLE_EQ(in.robot.chassis.mass_kg, 1.0);  // the lift is not lumped into the chassis
+  EXPECT_TRUE(j.axis.isApprox(Eigen::Vector3d::UnitZ(), 1e-12));
+  EXPECT_FALSE(in.robot.links.at("lift").on_chassis);
   UrdfMapping m;
   m.freezes.push_back({{}, "lift_joint", 0.2});
   const Imported frozen = import_text(dir.path(), text, m);
   ASSERT_TRUE(frozen.ok) << frozen.diagnostics.joined();
+  EXPECT_TRUE(frozen.robot.joints.empty());
   // Two 1 kg masses 0.2 m apart in z: the centre halfway.
   EXPECT_TRUE(frozen.robot.report.base_origin_m.isApprox(Eigen::Vector3d(0, 0, -0.1), 1e-12));
   EXPECT_DOUBLE_EQ(frozen.robot.chassis.mass_kg, 2.0);
+}
+
+TEST(UrdfImport, LiveLinkIsABodyOfItsOwnAsAHandComputationHasIt) {
+  TempDir dir;
+  // base_link 2 kg at its origin. The upper arm hangs on a revolute joint 0.1 m ahead and 0.2 m
+  // up, turned 90 degrees about z, its axis x (so the robot's y); its own 0.5 kg centre 0.05 m
+  // along its x, and a 0.5 kg hand fixed 0.1 m further along it: together 1 kg at 0.1 m along
+  // the arm's x, which is the robot's y.
+  const std::string text = R"(<robot name="arm">
+  <link name="base_link">
+    <inertial><mass value="2"/><inertia ixx="0.002" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.002"/></inertial>
+  </link>
+  <link name="upper">
+    <collision><origin xyz="0.05 0 0"/><geometry><box size="0.1 0.02 0.02"/></geometry></collision>
+    <inertial><origin xyz="0.05 0 0"/><mass value="0.5"/><inertia ixx="1e-5" ixy="0" ixz="0" iyy="4e-4" iyz="0" izz="4e-4"/></inertial>
+  </link>
+  <joint name="shoulder" type="revolute">
+    <parent link="base_link"/><child link="upper"/><origin xyz="0.1 0 0.2" rpy="0 0 1.5707963267948966"/>
+    <axis xyz="1 0 0"/><limit lower="-0.5" upper="4" effort="1" velocity="2"/>
+  </joint>
+  <link name="hand">
+    <inertial><mass value="0.5"/><inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>
+  </link>
+  <joint name="wrist" type="fixed"><parent link="upper"/><child link="hand"/><origin xyz="0.15 0 0"/></joint>
+</robot>)";
+  const Imported in = import_text(dir.path(), text);
+  ASSERT_TRUE(in.ok) << in.diagnostics.joined();
+  ASSERT_EQ(in.robot.joints.size(), 1u);
+  const JointLinkDesc& j = in.robot.joints[0];
+  EXPECT_DOUBLE_EQ(in.robot.chassis.mass_kg, 2.0);
+  EXPECT_DOUBLE_EQ(j.mass_kg, 1.0);
+  const Eigen::Vector3d base = in.robot.report.base_origin_m;  // the chassis is base_link alone: 0
+  EXPECT_TRUE(base.isZero(1e-12));
+  EXPECT_TRUE(j.anchor_m.isApprox(Eigen::Vector3d(0.1, 0, 0.2), 1e-12)) << j.anchor_m.transpose();
+  EXPECT_TRUE(j.position_m.isApprox(Eigen::Vector3d(0.1, 0.1, 0.2), 1e-12)) << j.position_m.transpose();
+  EXPECT_TRUE(j.axis.isApprox(Eigen::Vector3d::UnitY(), 1e-12)) << j.axis.transpose();
+  // About the common centre, in the arm's axes: the two 0.5 kg parts 0.05 m either side along x
+  // add 2 * 0.5 * 0.05^2 = 2.5e-3 to iyy and izz.
+  EXPECT_NEAR(j.inertia_kgm2(0, 0), 2e-5, 1e-12);
+  EXPECT_NEAR(j.inertia_kgm2(1, 1), 4e-4 + 1e-5 + 2.5e-3, 1e-12);
+  EXPECT_NEAR(j.inertia_kgm2(2, 2), 4e-4 + 1e-5 + 2.5e-3, 1e-12);
+  // Its collision box, about the body's centre (0.05 m behind it along the arm's x).
+  ASSERT_EQ(j.parts.size(), 1u);
+  EXPECT_TRUE(j.parts[0].position_m.isApprox(Eigen::Vector3d(-0.05, 0, 0), 1e-12));
+  // ODE measures a hinge's angle in -pi..pi: the upper stop at 4 rad is left out, with a warning.
+  EXPECT_TRUE(j.limited);
+  EXPECT_DOUBLE_EQ(j.lower, -0.5);
+  EXPECT_TRUE(std::isinf(j.upper));
+  const auto* w = find_warning(in.robot, "joint 'shoulder': ODE measures a hinge's angle in -pi..pi");
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->first.line, line_of(text, "<joint name=\"shoulder\""));
+}
+
+TEST(UrdfImport, MovingJointOnAWheelAndBadLimitsAreRefusedAtTheirLines) {
+  TempDir dir;
+  const std::string text = R"(<robot name="w">
+  <link name="base_link">
+    <inertial><mass value="1"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+  </link>)" + wheel_xml("left", 0.1) + R"(
+  <link name="flag"><inertial><mass value="0.01"/><inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="1e-6"/></inertial></link>
+  <joint name="flag_joint" type="continuous"><parent link="left_wheel"/><child link="flag"/><axis xyz="1 0 0"/></joint>
+  <link name="tail"><inertial><mass value="0.01"/><inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="1e-6"/></inertial></link>
+  <joint name="tail_joint" type="revolute"><parent link="base_link"/><child link="tail"/><axis xyz="0 0 1"/>
+    <limit lower="0.5" upper="-0.5" effort="1" velocity="1"/><dynamics damping="-1"/></joint>
+</robot>)";
+  UrdfMapping m;
+  m.wheels.push_back({{}, "left", "left_wheel_joint"});
+  const Imported in = import_text(dir.path(), text, m);
+  EXPECT_FALSE(in.ok);
+  const Diagnostic* e = find_error(in.diagnostics, "joint 'flag_joint' hangs from wheel 'left'");
+  ASSERT_NE(e, nullptr) << in.diagnostics.joined();
+  EXPECT_EQ(e->line, line_of(text, "<joint name=\"flag_joint\""));
+  e = find_error(in.diagnostics, "joint 'tail_joint': <limit lower=\"0.5\" upper=\"-0.5\">: lower is above upper");
+  ASSERT_NE(e, nullptr) << in.diagnostics.joined();
+  EXPECT_EQ(e->line, line_of(text, "<joint name=\"tail_joint\""));
+  EXPECT_NE(find_error(in.diagnostics, "joint 'tail_joint': <dynamics damping=\"-1\"> is negative"), nullptr)
+      << in.diagnostics.joined();
 }
 
 TEST(UrdfImport, NearRightAnglesAreSnappedWithAWarning) {

@@ -46,6 +46,8 @@ const std::vector<TraceColumn>& trace_columns() {
       {"motor_{}_duty", TracePer::Motor, "per motor: duty, signed (+ forward, − reverse)"},
       {"motor_{}_mode", TracePer::Motor, "per motor: F forward, R reverse, B brake, C coast"},
       {"servo_{}_pulse_us", TracePer::Servo, "per servo: the pulse it is given (µs, 0 for none)"},
+      {"joint_{}_pos", TracePer::Joint,
+       "per live URDF joint: its position from the URDF's zero (rad, or m for a prismatic one)"},
   };
   return columns;
 }
@@ -84,6 +86,7 @@ TraceCsv::TraceCsv(const std::string& folder, const Simulation& sim, std::uint64
     for (const auto& w : d.wheels) add(TracePer::Wheel, w.name);
     for (const auto& m : d.motors) add(TracePer::Motor, m.name);
     for (const auto& sv : d.servos) add(TracePer::Servo, sv.name);
+    for (const auto& j : d.joints) add(TracePer::Joint, j.joint);
     files_.back()->write(header + "\n");
   }
 }
@@ -107,6 +110,7 @@ void TraceCsv::write_row(const Simulation& sim) {
       fmt::format_to(std::back_inserter(row), ",{}", mode_letter(v.motor_command(m).direction));
     }
     for (std::size_t k = 0; k < v.desc().servos.size(); ++k) fmt::format_to(std::back_inserter(row), ",{:.1f}", v.servo_pulse(k));
+    for (std::size_t j = 0; j < v.joint_count(); ++j) put(v.joint(j).position());
     row.push_back('\n');
     files_[r]->write(std::string_view(row.data(), row.size()));
   }

@@ -16,7 +16,7 @@ namespace sear {
 // part's name; a part's columns stand together). The one list the header is written from;
 // docs/outputs.md's description of the file is generated from it too (trace_columns_markdown) and a
 // test holds that page to it.
-enum class TracePer { Robot, Wheel, Motor, Servo };
+enum class TracePer { Robot, Wheel, Motor, Servo, Joint };
 struct TraceColumn {
   const char* name;
   TracePer per;

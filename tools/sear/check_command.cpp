@@ -27,6 +27,7 @@ void print_urdf_imports(const ProjectDesc& project) {
     for (const auto& m : robot.urdf.meshes)
       fmt::print("  {} {} {}: {:.4g} x {:.4g} x {:.4g} m, {} triangles: {}\n", m.link, m.use, m.file, m.extent_m.x(),
                  m.extent_m.y(), m.extent_m.z(), m.triangles, m.decision);
+    for (const auto& line : robot.urdf.joints) fmt::print("{}\n", line);
   }
 }
 

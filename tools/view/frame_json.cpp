@@ -92,6 +92,12 @@ void FrameWorld::put(const Simulation& sim, const std::vector<McuPanel>& panels,
       wheels.push_back({{"pos", vec3(dBodyGetPosition(v.wheel_body(w)))},
                         {"quat", quat(dBodyGetQuaternion(v.wheel_body(w)))},
                         {"radps", round_unit(v.wheel_speed(w))}});
+    // A URDF's live links where their bodies are, and each joint's position (rad or m).
+    Json joints = Json::array();
+    for (std::size_t j = 0; j < v.joint_count(); ++j)
+      joints.push_back({{"pos", vec3(dBodyGetPosition(v.joint(j).body()))},
+                        {"quat", quat(dBodyGetQuaternion(v.joint(j).body()))},
+                        {"q", round_unit(v.joint(j).position())}});
     Json sensors = Json::array();
     for (std::size_t m = 0; m < project_.robots[r].mcus.size(); ++m, ++mcu) {
       if (mcu >= panels.size()) break;
@@ -106,6 +112,7 @@ void FrameWorld::put(const Simulation& sim, const std::vector<McuPanel>& panels,
                       {"wheels", std::move(wheels)},
                       {"sensors", std::move(sensors)},
                       {"collisions", sim.tally(r).collisions}});
+    if (!joints.empty()) robots.back()["joints"] = std::move(joints);
   }
   frame["robots"] = std::move(robots);
 

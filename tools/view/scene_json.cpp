@@ -221,6 +221,11 @@ Json robot_of(const RobotDesc& r) {
   for (const auto& v : r.urdf.visuals) {
     Json o = shape_of(v.shape);
     o["body"] = v.body;
+    // A live joint's link moves on its own body: the frames give its pose.
+    if (v.joint >= 0) {
+      o["body"] = nullptr;
+      o["joint"] = v.joint;
+    }
     o["link"] = v.link;
     o["rgba"] = {v.rgba[0], v.rgba[1], v.rgba[2], v.rgba[3]};
     visuals.push_back(std::move(o));
@@ -237,6 +242,16 @@ Json robot_of(const RobotDesc& r) {
     geoms.push_back({{"part", "tread " + w.name}, {"shape", "sphere"}, {"pos", vec3(w.position_m)},
                      {"quat", quat(1, 0, 0, 0)}, {"radius", round_mm(w.radius_m)}});
     wheels.push_back({{"name", w.name}, {"radius", round_mm(w.radius_m)}, {"width", round_mm(w.width_m)}});
+  }
+  // A URDF's live joints, each link with its physics shapes in its own body's frame.
+  Json joints = Json::array();
+  for (const JointLinkDesc& j : r.joints) {
+    Json shapes = Json::array();
+    for (const ShapeDesc& part : j.parts) shapes.push_back(shape_of(part));
+    joints.push_back({{"name", j.joint},
+                      {"link", j.link},
+                      {"kind", j.kind == JointLinkDesc::Kind::Hinge ? "hinge" : "slider"},
+                      {"geoms", std::move(shapes)}});
   }
   Json sensors = Json::array(), mcus = Json::array();
   for (const McuDesc& m : r.mcus) {
@@ -267,6 +282,7 @@ Json robot_of(const RobotDesc& r) {
   Json robot = {{"name", r.name},     {"keyboard", r.mcus.empty()}, {"body", std::move(body)},       {"geoms", std::move(geoms)},
                 {"wheels", wheels}, {"sensors", std::move(sensors)}, {"mcus", std::move(mcus)}};
   if (!visuals.empty()) robot["visuals"] = std::move(visuals);
+  if (!joints.empty()) robot["joints"] = std::move(joints);
   return robot;
 }
 

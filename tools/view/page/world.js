@@ -157,7 +157,7 @@ var SEAR = window.SEAR || (window.SEAR = {});
       }
       if (visuals.length) {
         visuals.forEach(function (v) {
-          var m = v.body === -1 ? visualMesh(v) : null;
+          var m = v.body === -1 && v.joint === undefined ? visualMesh(v) : null;
           if (m) group.add(m);
         });
       } else {
@@ -196,8 +196,24 @@ var SEAR = window.SEAR || (window.SEAR = {});
         root.add(m);
         return { mesh: m };
       });
+      // A URDF's live links: their visuals and physics shapes, each on its own body, posed by the frames.
+      var joints = (r.joints || []).map(function (j, index) {
+        var body = new THREE.Group(), wire = new THREE.Group();
+        visuals.forEach(function (v) {
+          if (v.joint !== index) return;
+          var m = visualMesh(v);
+          if (m) body.add(m);
+        });
+        (j.geoms || []).forEach(function (s) {
+          var g = shapeGeometry(s);
+          if (g) wire.add(place(wireframe(g), s));
+        });
+        root.add(body);
+        physicsRoot.add(wire);
+        return { mesh: body, wire: wire };
+      });
       root.add(group);
-      robots[r.name] = { group: group, wires: wires, wheels: wheels, colour: colour, desc: r };
+      robots[r.name] = { group: group, wires: wires, wheels: wheels, joints: joints, colour: colour, desc: r };
     });
     return { robots: robots, obstacles: obstacles };
   };
@@ -225,6 +241,14 @@ var SEAR = window.SEAR || (window.SEAR = {});
         if (!mine) return;
         mine.mesh.position.copy(vec(w.pos));
         mine.mesh.quaternion.copy(quat(w.quat));
+      });
+      (fr.joints || []).forEach(function (j, i) {
+        var mine = r.joints[i];
+        if (!mine) return;
+        mine.mesh.position.copy(vec(j.pos));
+        mine.mesh.quaternion.copy(quat(j.quat));
+        mine.wire.position.copy(mine.mesh.position);
+        mine.wire.quaternion.copy(mine.mesh.quaternion);
       });
     });
   };
