@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #define SEAR_LINK_MAGIC 0x52414553u /* "SEAR" little-endian */
-#define SEAR_LINK_VERSION 6u
+#define SEAR_LINK_VERSION 7u
 /* Guards at both ends of the firmware's writable part: a stray write that runs over them is seen
  * at the next turn even when every value it hit still looks plausible. */
 #define SEAR_LINK_GUARD 0x5EA75EA75EA75EA7ull
@@ -52,6 +52,15 @@ enum sear_request {
   SEAR_REQUEST_DRAIN = 1,        /* its event queue is full: empty it, same quantum */
   SEAR_REQUEST_EXIT = 2,         /* main() returned or exit() was called */
   SEAR_REQUEST_FATAL = 3         /* the HAL refused a call; `fatal` says why */
+};
+
+/* Whether the MCU halted for good: its firmware is in an endless empty loop (`while (true);`,
+ * `for (;;);`; on the chip `rjmp .-2`) that nothing but an interrupt can preempt. It stays in the
+ * run: its interrupts still run (while they are enabled), its queued bytes still leave. */
+enum sear_halt {
+  SEAR_HALT_NONE = 0,
+  SEAR_HALT_EMPTY_LOOP = 1,        /* interrupts on: timers, pins and ports still interrupt it */
+  SEAR_HALT_EMPTY_LOOP_IRQ_OFF = 2 /* interrupts off (or inside a handler): nothing more runs */
 };
 
 /* What a wired input is: a device whose model runs in the firmware's process (DESIGN.md, "Where
@@ -230,6 +239,10 @@ struct sear_link {
   uint32_t last_call; /* enum sear_call */
   int32_t exit_code;
   char fatal[192];
+  /* Written once, when the MCU halts (enum sear_halt), with its clock at that moment. */
+  int64_t halted_ns;
+  uint32_t halt;
+  uint32_t reserved_halt;
 
   /* Written by the firmware during its quantum, emptied by the simulator at its turn. */
   uint32_t event_count;

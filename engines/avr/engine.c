@@ -197,13 +197,33 @@ static inline int step(avr_t *avr) {
   return avr->state;
 }
 
+/* An instruction that ran and left the pc and the stack pointer where they were jumped to itself
+ * (`rjmp .-2`, a branch to itself taken, `jmp` or `ijmp` to itself; a call would have pushed): it
+ * changes nothing, so it runs for ever unless an interrupt preempts it, and after one it is there
+ * again. The MCU halted when it began (`while (true);`, or avr-libc's exit(): `cli; rjmp .-2`): the
+ * simulator is told once; the chip goes on, taking its interrupts while the I flag allows. */
+static void note_halt(uint64_t cycle) {
+  struct sear_link *link = engine.link;
+  if (link->halt) return;
+  int64_t t = engine_ns_of_cycle(cycle);
+  if (t < engine.turn_start_ns) t = engine.turn_start_ns;
+  if (t > engine.quantum_end_ns) t = engine.quantum_end_ns;
+  link->halted_ns = t;
+  link->halt = engine.avr->sreg[S_I] ? SEAR_HALT_EMPTY_LOOP : SEAR_HALT_EMPTY_LOOP_IRQ_OFF;
+}
+
 static void run_to(uint64_t cycle) {
   avr_t *avr = engine.avr;
   set_slice_end(cycle);
   while (avr->cycle < slice_end_cycle) {
     const uint32_t pc = avr->pc;
     const uint64_t before = avr->cycle;
+    const uint16_t sp_before = stack_pointer();
+    const int was = avr->state;
     const int state = step(avr);
+    if (__builtin_expect(avr->pc == pc, 0) && was == cpu_Running && state == cpu_Running &&
+        stack_pointer() == sp_before)
+      note_halt(before);
     avr_profile_count(pc, avr->cycle - before);
     /* Past the image is erased flash, which the chip would run through to a reset. */
     if (avr->pc >= engine.code_end)

@@ -283,6 +283,7 @@ McuBridge::Outcome McuBridge::finish_quantum(std::size_t index, McuListener& lis
   for (;;) {
     const McuProcess::Turn turn = process_->wait();
     if (turn == McuProcess::Turn::Interrupted) return Outcome::Interrupted;
+    if (!halt_) halt_ = process_->halt();
     drain(index, listener);  // whatever it wrote before stopping is kept too
     note_usage();
     if (!process_->failure() && !take_readings()) {

@@ -90,6 +90,11 @@ std::string describe(const McuFailure& f) {
   return "stopped";
 }
 
+std::string describe(const McuHalt& h) {
+  return h.interrupts_off ? "an endless empty loop with interrupts off; nothing more runs on it"
+                          : "an endless empty loop; its interrupts still run";
+}
+
 McuProcess::McuProcess(const std::string& executable, const std::string& host_log, const McuProcessOptions& options,
                        void (*setup)(sear_link&, const void*), const void* setup_context)
     : hang_timeout_s_(options.hang_timeout_s) {
@@ -336,6 +341,7 @@ McuProcess::Turn McuProcess::wait() {
         corrupted(why);
         return Turn::Stopped;
       }
+      if (turn_.halt && !halt_) halt_ = McuHalt{turn_.halted_ns, turn_.halt == SEAR_HALT_EMPTY_LOOP_IRQ_OFF};
       switch (turn_.request) {
         case SEAR_REQUEST_QUANTUM_DONE: return Turn::QuantumDone;
         case SEAR_REQUEST_DRAIN:

@@ -286,7 +286,7 @@ int run_command(const RunOptions& options) {
 
     trace.write_row(sim);
     std::int64_t steps = 0;
-    std::size_t stops_reported = 0, events_reported = 0;
+    std::size_t stops_reported = 0, events_reported = 0, halts_reported = 0;
     std::vector<bool> stdout_told(lockstep.mcu_count());
     bool physics_failed = false;
     bool reset = false, controller_gone = false, view_reset = false;
@@ -335,6 +335,11 @@ int run_command(const RunOptions& options) {
         if (checker) checker->mcu_stopped(stop.mcu, stop.failure.time_ns, describe(stop));
         if (view_model) view_model->mcu_stopped(stop.mcu, describe(stop));
         flush_files();
+      }
+      // A halted MCU is no failure: said once, when it halts, and the run goes on.
+      for (; halts_reported < lockstep.halts().size(); ++halts_reported) {
+        if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
+        fmt::print(stderr, "sear: {}; the run goes on\n", describe(lockstep.halts()[halts_reported]));
       }
       // printf() reaches the host log only: said once, the first time, where the user looks.
       for (std::size_t i = 0; i < lockstep.mcu_count(); ++i) {
@@ -406,6 +411,7 @@ int run_command(const RunOptions& options) {
     outcome.seed = project->run.seed;
     outcome.wall_time_s = seconds_since(start);
     outcome.mcu_stops = lockstep.stops();
+    outcome.mcu_halts = lockstep.halts();
     outcome.never_sent = capture.never_sent();
     outcome.host_ports = host_ports.final_listing();
     outcome.avr_reports = avr_reports;
