@@ -15,6 +15,12 @@
 #define SEAR_LINK_FD_ENV "SEAR_LINK_FD"
 /* ... and names itself, so that a firmware outliving it can tell. */
 #define SEAR_SIM_PID_ENV "SEAR_SIM_PID"
+/* An MCU whose EEPROM the project keeps (<eeprom persist="true">) inherits its file, opened for
+ * reading and writing, as the descriptor named here: its first 4096 bytes are the cells (a shorter
+ * file is erased past its end), and each write goes to it at once. Without it the EEPROM starts
+ * erased. A descriptor rather than a path keeps the firmware's environment the same size wherever
+ * the project lies. */
+#define SEAR_EEPROM_FD_ENV "SEAR_EEPROM_FD"
 
 #define SEAR_LINK_PINS 70
 #define SEAR_LINK_ADC_CHANNELS 16

@@ -54,6 +54,7 @@ int64_t engine_now_ns(void) {
 }
 
 static void hand_over(enum sear_request request) {
+  avr_eeprom_save();
   sear_end_give(engine.link, request);
   sear_end_wait_for_turn(engine.link);
 }
@@ -75,6 +76,7 @@ void engine_fatal(const char *format, ...) {
   va_start(args, format);
   sear_end_set_fatal(link, format, args);
   va_end(args);
+  if (engine.avr) avr_eeprom_save();
   fprintf(stderr, "sear-avr-engine: %s\n", link->fatal);
   sear_end_give(link, SEAR_REQUEST_FATAL);
   _exit(70);
@@ -333,6 +335,7 @@ int main(int argc, char **argv) {
   avr_global_logger_set(logger);
   refuse_high_adc_channels();
   load_chip(elf, report);
+  avr_eeprom_load();
   avr_pins_init();
   avr_usarts_init();
   avr_buses_init();

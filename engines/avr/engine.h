@@ -49,6 +49,11 @@ void avr_usarts_run_due(int64_t now_ns);
  * before the firmware runs; returns how many timers it found. */
 int avr_timer_modes_define(struct avr_t *avr);
 
+/* The EEPROM the project keeps (eeprom.c): loaded before the chip starts, saved at each
+ * hand-over; neither does anything when the project does not keep it. */
+void avr_eeprom_load(void);
+void avr_eeprom_save(void);
+
 /* SPI and TWI (buses.c). */
 void avr_buses_init(void);
 

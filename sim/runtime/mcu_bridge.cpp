@@ -53,6 +53,7 @@ McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id
   process.call_cost_ns = call_cost_ns(desc_);
   process.max_file_bytes = options.max_file_bytes;
   process.args = desc_.firmware_args;
+  process.eeprom_file = desc_.eeprom_file;
   process_ = std::make_unique<McuProcess>(desc_.firmware_executable, host_log, process, &McuBridge::setup_link, this);
 }
 

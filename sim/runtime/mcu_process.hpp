@@ -46,6 +46,7 @@ struct McuProcessOptions {
   std::int64_t call_cost_ns = 0;               // what one HAL call costs, the simulator's own copy
   std::uint64_t max_file_bytes = UINT64_MAX;   // the most the firmware may write to any one file
   std::vector<std::string> args;               // after its name: an engine's own arguments (engines/avr)
+  std::string eeprom_file;                     // kept EEPROM (SEAR_EEPROM_FD_ENV), created if missing; empty: none
 };
 
 class McuProcess {
@@ -84,8 +85,7 @@ class McuProcess {
   const char* last_call_name() const { return hal_call_name(watch_.last_call); }
 
  private:
-  void spawn(const std::string& executable, const std::string& host_log, std::uint64_t max_file_bytes,
-             const std::vector<std::string>& args);
+  void spawn(const std::string& executable, const std::string& host_log, const McuProcessOptions& options);
   void stop(McuFailure failure);
   void corrupted(const char* why);
   void read_unfinished_turn();

@@ -195,6 +195,18 @@ int run_command(const RunOptions& options) {
     PlotFolder plot_folder(out_dir);
     if (std::filesystem::exists(std::filesystem::path(out_dir) / kRunFolderMark)) plot_folder.claim(options.quiet);
     prepare_run_folder(out_dir);
+    // A cross-check runs the same project twice: each engine starts from the kept EEPROM's
+    // contents, in a copy of its own in the run's folder, and the kept file stays as it was.
+    if (options.eeprom_copies)
+      for (auto& robot : project->robots)
+        for (auto& mcu : robot.mcus) {
+          if (mcu.eeprom_file.empty()) continue;
+          const auto copy = std::filesystem::path(out_dir) / (robot.name + "." + mcu.name + ".eeprom");
+          std::error_code error;
+          if (std::filesystem::exists(mcu.eeprom_file, error))
+            std::filesystem::copy_file(mcu.eeprom_file, copy, std::filesystem::copy_options::overwrite_existing);
+          mcu.eeprom_file = copy.string();
+        }
     if (default_folder) point_latest_at(out_dir);
     write_world_json(out_dir + "/world.json", *project);
     std::unique_ptr<LcmBridge> lcm;
