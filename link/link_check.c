@@ -66,7 +66,19 @@ int sear_link_check_turn(const struct sear_link *link, int handed_back, struct s
     if (!c) break;
     t->fatal[i] = c >= 0x20 && c < 0x7f ? c : '?';
   }
+  t->halt = load32(&link->halt);
+  t->halted_ns = load64(&link->halted_ns);
+  if (t->halt > SEAR_HALT_EMPTY_LOOP_IRQ_OFF) FAIL("halt (%u, not a halt the firmware's side reports)", t->halt);
+  if (w->halt && (t->halt != w->halt || t->halted_ns != w->halted_ns))
+    FAIL("halt (%u at %lld ns, after it halted (%u) at %lld ns)", t->halt, (long long)t->halted_ns, w->halt,
+         (long long)w->halted_ns);
+  if (t->halt && (t->halted_ns < w->turn_clock_ns && !w->halt))
+    FAIL("halted_ns (%lld ns, before the turn began at %lld ns)", (long long)t->halted_ns, (long long)w->turn_clock_ns);
+  if (t->halt && t->halted_ns > t->clock_ns)
+    FAIL("halted_ns (%lld ns, after the clock at %lld ns)", (long long)t->halted_ns, (long long)t->clock_ns);
   w->clock_ns = t->clock_ns;
+  w->halt = t->halt;
+  w->halted_ns = t->halted_ns;
   w->calls = calls;
   w->last_call = t->last_call;
   return 0;

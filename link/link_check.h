@@ -26,6 +26,8 @@ struct sear_link_watch {
   int64_t last_tx_ns[SEAR_LINK_UARTS];
   int64_t last_rx_ns[SEAR_LINK_UARTS];
   uint32_t can_data_due;   /* CAN_DATA events still owed by the last CAN_TX (2, 1 or 0) */
+  uint32_t halt;           /* enum sear_halt, once reported: it never changes after */
+  int64_t halted_ns;
 };
 
 /* What the firmware reported when it handed the turn back, once checked. */
@@ -36,12 +38,15 @@ struct sear_link_turn {
   uint32_t last_call;
   int32_t exit_code;
   char fatal[sizeof(((struct sear_link *)0)->fatal)]; /* NUL-terminated, printable ASCII */
+  uint32_t halt;         /* enum sear_halt */
+  int64_t halted_ns;     /* when it halted, within the clock it reached */
 };
 
 void sear_link_watch_init(struct sear_link_watch *w, int64_t call_cost_ns);
 
 /* Reads the hand-back of a turn once into `turn` and checks it: guards, request, clock (never
- * backwards, never past the quantum by more than one call), call count and counts. `handed_back`
+ * backwards, never past the quantum by more than one call), call count, counts and halt (at most
+ * once, at a time the clock had reached). `handed_back`
  * is 0 for a firmware that died during its turn, whose request is the previous turn's. Returns 0,
  * or -1 with a sentence naming the first bad field in `why`. */
 int sear_link_check_turn(const struct sear_link *link, int handed_back, struct sear_link_watch *w,

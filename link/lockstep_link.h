@@ -15,6 +15,12 @@
 #define SEAR_LINK_FD_ENV "SEAR_LINK_FD"
 /* ... and names itself, so that a firmware outliving it can tell. */
 #define SEAR_SIM_PID_ENV "SEAR_SIM_PID"
+/* An MCU whose EEPROM the project keeps (<eeprom persist="true">) inherits its file, opened for
+ * reading and writing, as the descriptor named here: its first 4096 bytes are the cells (a shorter
+ * file is erased past its end), and each write goes to it at once. Without it the EEPROM starts
+ * erased. A descriptor rather than a path keeps the firmware's environment the same size wherever
+ * the project lies. */
+#define SEAR_EEPROM_FD_ENV "SEAR_EEPROM_FD"
 
 #define SEAR_LINK_PINS 70
 #define SEAR_LINK_ADC_CHANNELS 16
@@ -52,6 +58,15 @@ enum sear_request {
   SEAR_REQUEST_DRAIN = 1,        /* its event queue is full: empty it, same quantum */
   SEAR_REQUEST_EXIT = 2,         /* main() returned or exit() was called */
   SEAR_REQUEST_FATAL = 3         /* the HAL refused a call; `fatal` says why */
+};
+
+/* Whether the MCU halted for good: its firmware is in an endless empty loop (`while (true);`,
+ * `for (;;);`; on the chip `rjmp .-2`) that nothing but an interrupt can preempt. It stays in the
+ * run: its interrupts still run (while they are enabled), its queued bytes still leave. */
+enum sear_halt {
+  SEAR_HALT_NONE = 0,
+  SEAR_HALT_EMPTY_LOOP = 1,        /* interrupts on: timers, pins and ports still interrupt it */
+  SEAR_HALT_EMPTY_LOOP_IRQ_OFF = 2 /* interrupts off (or inside a handler): nothing more runs */
 };
 
 /* What a wired input is: a device whose model runs in the firmware's process (DESIGN.md, "Where
@@ -235,6 +250,10 @@ struct sear_link {
    * tell and leaves both 0. */
   uint64_t chip_cycles;
   uint64_t chip_busy_cycles;
+  /* Written once, when the MCU halts (enum sear_halt), with its clock at that moment. */
+  int64_t halted_ns;
+  uint32_t halt;
+  uint32_t reserved_halt;
 
   /* Written by the firmware during its quantum, emptied by the simulator at its turn. */
   uint32_t event_count;

@@ -4,6 +4,8 @@
 // registers, in memory, or in general registers only), with a timer handler
 // attached, prints exactly the times the HAL's cost model gives, byte for byte on a quiet and on a
 // fully loaded host; and a thousand `while (!flag) {}` waits on a 1 kHz timer each end at their tick.
+// `for (;;);` is no wait but the idiom for "stop here": the MCU halts at the moment it entered the
+// loop, its timer still firing and its queued bytes still leaving, and the run goes on to its end.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/prctl.h>
@@ -11,10 +13,12 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <vector>
 
 #include "firmware_run.hpp"
+#include "model_run.hpp"
 
 namespace sear::test {
 namespace {
@@ -113,6 +117,93 @@ TEST(IdleLoop, AThousandWaitsOnA1kHzTimerEachEndAtTheirTick) {
   // 1000006.25 us; micros() acts right there.
   EXPECT_NE(console.find("1000 of 1000 waits ended at their tick, the last at 1000006 us"), std::string::npos)
       << console;
+  // Each of those loops was a wait, never a halt.
+  EXPECT_EQ(run.err.find("halted"), std::string::npos) << run.err;
+  EXPECT_TRUE(nlohmann::json::parse(run.file("summary.json"))["mcu_halts"].empty());
+}
+
+// tests/firmware/halt_probe.c: hal_init, uart_begin, pin_mode, irq_timer_start and uart_print act
+// at 0, c, 2c, 3c and 4c; the loop begins when the last call's cost is charged, at 5c (6c after
+// irq_disable() in the interrupts-off build). The timer's tick k falls due at 3c + k ms.
+constexpr std::int64_t kHaltNs = 5 * kCallNs;
+constexpr std::int64_t kFirstTickNs = 3 * kCallNs + 1'000'000;
+const std::string kHaltLine = "halting: every byte of this line leaves after the loop began.\n";
+
+// (time in ns, byte) of each "tx" line of a UART log ("S.NNNNNNNNN tx 4c").
+std::vector<std::pair<std::int64_t, int>> sent_bytes(const std::string& log) {
+  std::vector<std::pair<std::int64_t, int>> bytes;
+  const std::regex line("^(\\d+)\\.(\\d{9}) tx ([0-9a-f]{2})$");
+  std::smatch m;
+  for (const auto& l : lines_of(log))
+    if (std::regex_match(l, m, line))
+      bytes.emplace_back(std::stoll(m[1]) * 1000000000 + std::stoll(m[2]), std::stoi(m[3], nullptr, 16));
+  return bytes;
+}
+
+TEST(Halt, AnEndlessEmptyLoopHaltsTheMcuWhileItsTimerAndItsUartGoOnToTheRunsEnd) {
+  TempDir dir;
+  const double duration_s = 0.45;
+  const auto run = run_sear(dir, probe_project(HALT_PROBE, duration_s));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("mcu rover.main halted at sim time 0.000016 s (an endless empty loop; its interrupts still "
+                         "run); the run goes on"),
+            std::string::npos)
+      << run.err;
+  const auto summary = nlohmann::json::parse(run.file("summary.json"));
+  EXPECT_EQ(summary["status"], "completed");
+  EXPECT_TRUE(summary["mcu_stops"].empty());
+  ASSERT_EQ(summary["mcu_halts"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["mcu_halts"][0]["mcu"], "rover.main");
+  EXPECT_DOUBLE_EQ(summary["mcu_halts"][0]["sim_time_s"].get<double>(), kHaltNs * 1e-9);
+  EXPECT_EQ(summary["mcu_halts"][0]["interrupts"], "on");
+  EXPECT_NE(run.file("summary.txt").find("  mcu rover.main halted at sim time 0.000016 s"), std::string::npos);
+
+  // Every byte of the line queued before the loop left, back to back at 9600 baud from the end of
+  // the uart_print() call, 5c, the moment the loop began: byte n's stop bit ends n * 10 bit times
+  // after (uart.c's rounding to the nanosecond).
+  const auto sent = sent_bytes(run.file("rover.main.uart0.log"));
+  ASSERT_GE(sent.size(), kHaltLine.size());
+  for (std::size_t n = 1; n <= kHaltLine.size(); ++n) {
+    EXPECT_EQ(sent[n - 1].first, kHaltNs + static_cast<std::int64_t>((n * 10'000'000'000ull + 4800) / 9600)) << n;
+    EXPECT_EQ(sent[n - 1].second, static_cast<unsigned char>(kHaltLine[n - 1])) << n;
+  }
+  // The handler ran at every tick to the run's end: pin 13 went out LOW at 2c, then toggled at
+  // each tick, 449 of them by 0.45 s (the 450th falls due 9.375 us after the end), at the tick's
+  // own nanosecond; every 100th printed its count.
+  const auto changes = vcd_changes(run.file("rover.main.pins.vcd"), vcd_id_of_pin(13));
+  ASSERT_EQ(changes.size(), 2u + 449u);
+  EXPECT_EQ(changes[1].time, 2 * kCallNs);
+  for (std::size_t k = 1; k <= 449; ++k) {
+    EXPECT_EQ(changes[k + 1].time, kFirstTickNs + static_cast<std::int64_t>(k - 1) * 1'000'000) << "tick " << k;
+    EXPECT_EQ(changes[k + 1].value, k % 2 == 1 ? '1' : '0') << "tick " << k;
+  }
+  const std::string console = run.file("rover.main.console.log");
+  for (const char* line : {"tick 100\n", "tick 200\n", "tick 300\n", "tick 400\n"})
+    EXPECT_NE(console.find(line), std::string::npos) << console;
+
+  // The same bytes in a second run.
+  TempDir again_dir;
+  const auto again = run_sear(again_dir, probe_project(HALT_PROBE, duration_s));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  for (const char* file : {"rover.main.console.log", "rover.main.uart0.log", "rover.main.pins.vcd"})
+    EXPECT_EQ(again.file(file), run.file(file)) << file;
+  EXPECT_EQ(nlohmann::json::parse(again.file("summary.json"))["mcu_halts"], summary["mcu_halts"]);
+}
+
+TEST(Halt, WithInterruptsOffTheMcuHaltsAndItsTimerNeverRuns) {
+  TempDir dir;
+  const auto run = run_sear(dir, probe_project(HALT_IRQ_OFF_PROBE, 0.05));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("mcu rover.main halted at sim time 0.000019 s (an endless empty loop with interrupts off; "
+                         "nothing more runs on it)"),
+            std::string::npos)
+      << run.err;
+  const auto summary = nlohmann::json::parse(run.file("summary.json"));
+  ASSERT_EQ(summary["mcu_halts"].size(), 1u) << summary.dump();
+  EXPECT_DOUBLE_EQ(summary["mcu_halts"][0]["sim_time_s"].get<double>(), (kHaltNs + kCallNs) * 1e-9);
+  EXPECT_EQ(summary["mcu_halts"][0]["interrupts"], "off");
+  // Pin 13 went out LOW and no tick ever toggled it.
+  EXPECT_EQ(vcd_changes(run.file("rover.main.pins.vcd"), vcd_id_of_pin(13)).size(), 2u);
 }
 
 }  // namespace

@@ -54,6 +54,7 @@ int64_t engine_now_ns(void) {
 }
 
 static void hand_over(enum sear_request request) {
+  avr_eeprom_save();
   sear_end_give(engine.link, request);
   sear_end_wait_for_turn(engine.link);
 }
@@ -82,6 +83,7 @@ void engine_fatal(const char *format, ...) {
   va_start(args, format);
   sear_end_set_fatal(link, format, args);
   va_end(args);
+  if (engine.avr) avr_eeprom_save();
   fprintf(stderr, "sear-avr-engine: %s\n", link->fatal);
   sear_end_give(link, SEAR_REQUEST_FATAL);
   _exit(70);
@@ -219,13 +221,33 @@ static inline int step(avr_t *avr) {
   return avr->state;
 }
 
+/* An instruction that ran and left the pc and the stack pointer where they were jumped to itself
+ * (`rjmp .-2`, a branch to itself taken, `jmp` or `ijmp` to itself; a call would have pushed): it
+ * changes nothing, so it runs for ever unless an interrupt preempts it, and after one it is there
+ * again. The MCU halted when it began (`while (true);`, or avr-libc's exit(): `cli; rjmp .-2`): the
+ * simulator is told once; the chip goes on, taking its interrupts while the I flag allows. */
+static void note_halt(uint64_t cycle) {
+  struct sear_link *link = engine.link;
+  if (link->halt) return;
+  int64_t t = engine_ns_of_cycle(cycle);
+  if (t < engine.turn_start_ns) t = engine.turn_start_ns;
+  if (t > engine.quantum_end_ns) t = engine.quantum_end_ns;
+  link->halted_ns = t;
+  link->halt = engine.avr->sreg[S_I] ? SEAR_HALT_EMPTY_LOOP : SEAR_HALT_EMPTY_LOOP_IRQ_OFF;
+}
+
 static void run_to(uint64_t cycle) {
   avr_t *avr = engine.avr;
   set_slice_end(cycle);
   while (avr->cycle < slice_end_cycle) {
     const uint32_t pc = avr->pc;
     const uint64_t before = avr->cycle;
+    const uint16_t sp_before = stack_pointer();
+    const int was = avr->state;
     const int state = step(avr);
+    if (__builtin_expect(avr->pc == pc, 0) && was == cpu_Running && state == cpu_Running &&
+        stack_pointer() == sp_before)
+      note_halt(before);
     avr_profile_count(pc, avr->cycle - before);
     /* Past the image is erased flash, which the chip would run through to a reset. */
     /* The chip's program counter wraps within its flash; simavr's does not (a backward jump from
@@ -337,6 +359,7 @@ int main(int argc, char **argv) {
   avr_global_logger_set(logger);
   refuse_high_adc_channels();
   load_chip(elf, report);
+  avr_eeprom_load();
   avr_pins_init();
   avr_usage_init();
   avr_usarts_init();

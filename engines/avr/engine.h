@@ -55,6 +55,11 @@ uint32_t avr_usart_overruns(int n); /* bytes lost to overrun on USARTn so far */
  * before the firmware runs; returns how many timers it found. */
 int avr_timer_modes_define(struct avr_t *avr);
 
+/* The EEPROM the project keeps (eeprom.c): loaded before the chip starts, saved at each
+ * hand-over; neither does anything when the project does not keep it. */
+void avr_eeprom_load(void);
+void avr_eeprom_save(void);
+
 /* SPI and TWI (buses.c). */
 void avr_buses_init(void);
 

@@ -1,7 +1,8 @@
-/* The EEPROM: 4 KiB, erased (0xFF) at the start of every run unless the simulator names a file in
- * SEAR_EEPROM_FILE, which then holds this MCU's contents from run to run. Each written byte goes
- * to the file at once, so a run that ends in a crash keeps what the firmware wrote before it, as
- * the chip's cells do. */
+/* The EEPROM: 4 KiB, erased (0xFF) at the start of every run unless the project keeps it: then the
+ * simulator passes its file as the descriptor SEAR_EEPROM_FD_ENV names (lockstep_link.h), which
+ * holds this MCU's contents from run to run. A firmware started by hand may name a file in
+ * SEAR_EEPROM_FILE instead. Each written byte goes to the file at once, so a run that ends in a
+ * crash keeps what the firmware wrote before it, as the chip's cells do. */
 #define _POSIX_C_SOURCE 200809L
 #include <hal/eeprom.h>
 
@@ -24,10 +25,16 @@ static int64_t busy_until_ns;
 static void load(void) {
   loaded = 1;
   memset(cells, 0xFF, sizeof cells);
+  const char *descriptor = getenv(SEAR_EEPROM_FD_ENV);
   const char *path = getenv("SEAR_EEPROM_FILE");
-  if (!path || !*path) return;
-  file = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (file < 0) mcu_fatal("EEPROM: cannot open %s, the file SEAR_EEPROM_FILE names", path);
+  if (descriptor && *descriptor) {
+    file = atoi(descriptor);
+    path = "the project's kept EEPROM";
+  } else {
+    if (!path || !*path) return;
+    file = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (file < 0) mcu_fatal("EEPROM: cannot open %s, the file SEAR_EEPROM_FILE names", path);
+  }
   const ssize_t got = pread(file, cells, sizeof cells, 0);
   /* A new or short file is an erased chip past its end. */
   if (got < (ssize_t)sizeof cells) {

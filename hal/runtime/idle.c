@@ -18,7 +18,14 @@
  * reason, and so is a process with more than one thread. Signals of the firmware's own (a host
  * timer) could end such a loop too; an MCU firmware has none. A debugger that traps SIGTRAP sees the
  * steps. Each jump stays bounded (MAX_WAIT_NS) so that a loop outside these assumptions loses at
- * most that. Elsewhere than x86-64 such loops are reported as hung. */
+ * most that. Elsewhere than x86-64 such loops are reported as hung.
+ *
+ * A look that finds the firmware on an instruction that jumps to itself (`while (true);`,
+ * `for (;;);`: `jmp .`) needs no proof: that instruction reads nothing and changes nothing, so
+ * only an interrupt can preempt it, and after the interrupt it is there again. The MCU is halted
+ * from the moment it got there (its clock has not moved since): the simulator is told once, and
+ * from then on the look's handler runs the lockstep itself, delivering interrupts at their times
+ * while the world runs on, and never returns to the loop. */
 #define _GNU_SOURCE
 #include <errno.h>
 #include <fcntl.h>
@@ -378,6 +385,34 @@ static void run_to_next_interrupt(void) {
   }
 }
 
+/* `jmp rel8 -2` or `jmp rel32 -5`: the instruction at `rip` jumps to itself. */
+static int jumps_to_itself(uintptr_t rip) {
+  if (rip >= VSYSCALL_PAGE || (rip >= w->vdso_start && rip < w->vdso_end)) return 0;
+  const unsigned char *p = (const unsigned char *)rip;
+  if (p[0] == 0xEB) return p[1] == 0xFE;
+  return p[0] == 0xE9 && p[1] == 0xFB && p[2] == 0xFF && p[3] == 0xFF && p[4] == 0xFF;
+}
+
+/* The firmware sits in `jmp .` for good: tells the simulator once, then runs the lockstep from
+ * here for the rest of the run, as the chip would keep taking interrupts from the loop (none while
+ * they are off, or inside a handler that never returns). Never returns: what it preempted would
+ * only jump to itself again. Looks stop; SIGVTALRM is held while this handler runs anyway. */
+static void halt_here(void) {
+  struct sear_link *link = sear_mcu.link;
+  const struct itimerspec never = {{0, 0}, {0, 0}};
+  timer_settime(w->timer, 0, &never, NULL);
+  const int interrupts_off = !sear_mcu.irq_enabled || sear_mcu.in_isr;
+  link->halted_ns = link->clock_ns;
+  __atomic_store_n(&link->halt, (uint32_t)(interrupts_off ? SEAR_HALT_EMPTY_LOOP_IRQ_OFF : SEAR_HALT_EMPTY_LOOP),
+                   __ATOMIC_RELEASE);
+  for (;;) {
+    int64_t next = mcu_earliest_input();
+    if (next > link->quantum_end_ns) next = link->quantum_end_ns;
+    if (next > link->clock_ns) link->clock_ns = next;
+    mcu_service();
+  }
+}
+
 static void on_look(int signal_number, siginfo_t *info, void *untyped) {
   (void)signal_number;
   (void)info;
@@ -396,6 +431,10 @@ static void on_look(int signal_number, siginfo_t *info, void *untyped) {
     return;
   }
   w->stepping = 0; /* if it was on, the firmware cleared the trap flag itself (popf) */
+  /* Halted, whatever it waits for: with no interrupt armed, or with interrupts off, too. A
+   * firmware past exit() has let go of the link, and another thread could still call the HAL. */
+  if (!sear_mcu.exiting && jumps_to_itself((uintptr_t)context->uc_mcontext.gregs[REG_RIP]) && single_threaded())
+    halt_here();
   const uint64_t calls = link->calls;
   const int calling = calls != w->calls_at_last_look;
   w->calls_at_last_look = calls;

@@ -20,6 +20,7 @@ void hal_init(void) {
   sear_mcu.adc_reference = 0;
   sear_mcu.adc_bits = 10;
   sear_mcu.irq_enabled = 1;
+  mcu_watch_idle_loops(); /* from here on, `while (true);` halts the MCU */
   mcu_reschedule();
 }
 

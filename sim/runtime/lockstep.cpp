@@ -14,6 +14,7 @@ Lockstep::Lockstep(Simulation& sim, const ProjectDesc& project, const LockstepOp
       bridges_.push_back(std::make_unique<McuBridge>(mcu, project.world, id, bridges_.size(), sim.robot(r), seed,
                                                      options.out_dir + "/" + id + ".host.log", options.mcu));
       running_.push_back(true);
+      halt_reported_.push_back(false);
       robot_of_.push_back(r);
     }
   }
@@ -49,6 +50,10 @@ bool Lockstep::step() {
   for (std::size_t i = 0; i < bridges_.size(); ++i) {
     if (!running_[i]) continue;
     const McuBridge::Outcome outcome = bridges_[i]->finish_quantum(i, listener_);
+    if (!halt_reported_[i] && bridges_[i]->halt()) {
+      halt_reported_[i] = true;
+      halts_.push_back({bridges_[i]->id(), *bridges_[i]->halt()});
+    }
     if (outcome == McuBridge::Outcome::Running) continue;
     // The others still hold their turn; they are stopped with the run, their quantum unfinished.
     if (outcome == McuBridge::Outcome::Interrupted) return false;

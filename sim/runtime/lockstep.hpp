@@ -25,6 +25,11 @@ struct McuStop {
   McuFailure failure;
 };
 
+struct McuHaltReport {
+  std::string mcu;  // "robot.mcu"
+  McuHalt halt;
+};
+
 class Lockstep {
  public:
   // Starts one process per MCU of every robot; each McuDesc must name its built executable.
@@ -40,6 +45,8 @@ class Lockstep {
   std::size_t mcu_count() const { return bridges_.size(); }
   const McuBridge& mcu(std::size_t i) const { return *bridges_[i]; }
   const std::vector<McuStop>& stops() const { return stops_; }
+  // MCUs that halted in an endless empty loop, in the order the run saw it; they run on.
+  const std::vector<McuHaltReport>& halts() const { return halts_; }
   // Bridges a <can_bus> to the host; see CanNetwork::attach_host.
   void attach_can_host(const std::string& bus, HostCanEnd* end);
 
@@ -51,6 +58,8 @@ class Lockstep {
   std::vector<bool> running_;
   std::vector<std::size_t> robot_of_;  // per bridge, the index of its robot
   std::vector<McuStop> stops_;
+  std::vector<McuHaltReport> halts_;
+  std::vector<bool> halt_reported_;
   std::unique_ptr<CanNetwork> can_;  // null when the project has no <can_bus>
 };
 

@@ -53,6 +53,7 @@ McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id
   process.call_cost_ns = call_cost_ns(desc_);
   process.max_file_bytes = options.max_file_bytes;
   process.args = desc_.firmware_args;
+  process.eeprom_file = desc_.eeprom_file;
   process_ = std::make_unique<McuProcess>(desc_.firmware_executable, host_log, process, &McuBridge::setup_link, this);
 }
 
@@ -284,6 +285,7 @@ McuBridge::Outcome McuBridge::finish_quantum(std::size_t index, McuListener& lis
   for (;;) {
     const McuProcess::Turn turn = process_->wait();
     if (turn == McuProcess::Turn::Interrupted) return Outcome::Interrupted;
+    if (!halt_) halt_ = process_->halt();
     drain(index, listener);  // whatever it wrote before stopping is kept too
     note_usage();
     if (!process_->failure() && !take_readings()) {

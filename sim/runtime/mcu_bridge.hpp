@@ -75,6 +75,8 @@ class McuBridge {
   // it queued for later is written.
   void shut_down(std::size_t index, std::int64_t time_ns, McuListener& listener);
   bool running() const { return process_ && !process_->failure(); }
+  // Set once the firmware halted in an endless empty loop (it keeps running its interrupts).
+  const std::optional<McuHalt>& halt() const { return halt_; }
   // What the firmware did with its pins, ports and buses so far (for the wiring report).
   const McuUsage& usage() const { return usage_; }
   // The device desc().devices[i] talks to the host rather than to the firmware's port.
@@ -112,6 +114,7 @@ class McuBridge {
   std::unique_ptr<McuProcess> process_;
   sear_reading_watch reading_watch_{};
   std::optional<McuFailure> reading_failure_;  // a bad reading stopped it (process_ is gone then)
+  std::optional<McuHalt> halt_;
   // What the firmware drives on each pin: 0..255 (LOW, PWM duty, HIGH); inputs drive nothing.
   std::array<int, SEAR_LINK_PINS> pin_drive_{};
   std::array<bool, SEAR_LINK_PINS> pin_output_{};

@@ -39,6 +39,7 @@ constexpr std::int64_t kCheckNs = 10'000'000;
 constexpr int kLinkFd = 3;
 constexpr int kExecutableFd = 4;
 constexpr int kExecReportFd = 5;  // closed by a successful exec
+constexpr int kEepromFd = 6;      // the kept EEPROM's file, when the project keeps it
 
 #define SEAR_CALL_NAME(name) #name,
 const char* const kCallNames[] = {SEAR_HAL_CALLS(SEAR_CALL_NAME)};
@@ -51,9 +52,10 @@ const char* const kCallNames[] = {SEAR_HAL_CALLS(SEAR_CALL_NAME)};
 // runs the dynamic linker's resolver, which saves the vector registers (XSAVEC) a few hundred
 // bytes below the caller, and whether the SSE state reads as in use there depends on the host's
 // context switches, so those bytes differed between runs where uninitialised stack is read next.
-std::vector<std::string> firmware_environment() {
+std::vector<std::string> firmware_environment(bool eeprom) {
   std::vector<std::string> env{fmt::format("{}={}", SEAR_LINK_FD_ENV, kLinkFd), "LD_BIND_NOW=1",
                                fmt::format("{}={:010d}", SEAR_SIM_PID_ENV, getpid())};
+  if (eeprom) env.push_back(fmt::format("{}={}", SEAR_EEPROM_FD_ENV, kEepromFd));
   for (const char* name : {"ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS"})
     if (const char* value = std::getenv(name)) env.push_back(fmt::format("{}={}", name, value));
   return env;
@@ -90,6 +92,11 @@ std::string describe(const McuFailure& f) {
   return "stopped";
 }
 
+std::string describe(const McuHalt& h) {
+  return h.interrupts_off ? "an endless empty loop with interrupts off; nothing more runs on it"
+                          : "an endless empty loop; its interrupts still run";
+}
+
 McuProcess::McuProcess(const std::string& executable, const std::string& host_log, const McuProcessOptions& options,
                        void (*setup)(sear_link&, const void*), const void* setup_context)
     : hang_timeout_s_(options.hang_timeout_s) {
@@ -106,13 +113,23 @@ McuProcess::McuProcess(const std::string& executable, const std::string& host_lo
   link_->guard_back = SEAR_LINK_GUARD;
   link_->turn = SEAR_TURN_SIM;
   setup(*link_, setup_context);
-  spawn(executable, host_log, options.max_file_bytes, options.args);
+  spawn(executable, host_log, options);
 }
 
-void McuProcess::spawn(const std::string& executable, const std::string& host_log, std::uint64_t max_file_bytes,
-                       const std::vector<std::string>& args) {
+void McuProcess::spawn(const std::string& executable, const std::string& host_log, const McuProcessOptions& options) {
+  const std::uint64_t max_file_bytes = options.max_file_bytes;
+  const std::vector<std::string>& args = options.args;
+  const bool eeprom = !options.eeprom_file.empty();
+  const int kept = eeprom ? open(options.eeprom_file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644) : -1;
+  if (eeprom && kept < 0)
+    throw std::runtime_error(fmt::format("{}: error: cannot open the kept EEPROM's file: {}", options.eeprom_file,
+                                         std::strerror(errno)));
   const int exe = open(executable.c_str(), O_RDONLY | O_CLOEXEC);
-  if (exe < 0) throw std::runtime_error(fmt::format("cannot start firmware {}: {}", executable, std::strerror(errno)));
+  if (exe < 0) {
+    const int error = errno;
+    if (kept >= 0) close(kept);
+    throw std::runtime_error(fmt::format("cannot start firmware {}: {}", executable, std::strerror(error)));
+  }
   // Its stdout and stderr go to the one log, each through its own open file, both appending: the
   // offset of the stdout's (which this process keeps) then moves only when the firmware prints.
   const int log = open(host_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
@@ -120,12 +137,13 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
   if (out < 0) {
     const int error = errno;
     close(exe);
+    if (kept >= 0) close(kept);
     if (log >= 0) close(log);
     throw std::runtime_error(fmt::format("{}: error: cannot write: {}", host_log, std::strerror(error)));
   }
   stdout_fd_ = out;
   // Everything the child needs is prepared here: after fork() it may only make system calls.
-  const std::vector<std::string> env_text = firmware_environment();
+  const std::vector<std::string> env_text = firmware_environment(eeprom);
   std::vector<char*> env;
   for (const auto& e : env_text) env.push_back(const_cast<char*>(e.c_str()));
   env.push_back(nullptr);
@@ -137,9 +155,10 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
   const char* const path = executable.c_str();
   const pid_t simulator = getpid();
   const int link_fd = out_of_the_way(fd_), exe_fd = out_of_the_way(exe), log_fd = out_of_the_way(log),
-            out_fd = out_of_the_way(out);
+            out_fd = out_of_the_way(out), eeprom_fd = kept >= 0 ? out_of_the_way(kept) : -1;
   close(exe);
   close(log);
+  if (kept >= 0) close(kept);
   const rlim_t limit = max_file_bytes >= RLIM_INFINITY ? RLIM_INFINITY : static_cast<rlim_t>(max_file_bytes);
   // The child reports a failed exec through this pipe; a successful one closes it unwritten.
   int exec_report[2];
@@ -175,7 +194,8 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
     dup2(link_fd, kLinkFd);                    // without close-on-exec: the firmware maps it
     dup3(exe_fd, kExecutableFd, O_CLOEXEC);
     if (report_fd >= 0) dup3(report_fd, kExecReportFd, O_CLOEXEC);
-    syscall(SYS_close_range, static_cast<unsigned>(kExecReportFd + 1), ~0u, 0u);
+    if (eeprom_fd >= 0) dup2(eeprom_fd, kEepromFd);  // without close-on-exec: the firmware keeps it
+    syscall(SYS_close_range, static_cast<unsigned>(eeprom_fd >= 0 ? kEepromFd + 1 : kEepromFd), ~0u, 0u);
     syscall(SYS_execveat, kExecutableFd, empty, argv.data(), env.data(), AT_EMPTY_PATH);
     // A script (#!) cannot be run from a descriptor closed on exec, as its interpreter opens the
     // path "/dev/fd/4": it runs from its own path, which only its addresses depend on.
@@ -189,6 +209,7 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
   close(exe_fd);
   close(log_fd);
   close(out_fd);
+  if (eeprom_fd >= 0) close(eeprom_fd);
   if (report_fd >= 0) close(report_fd);
   if (pid_ < 0) {
     pid_ = -1;
@@ -336,6 +357,7 @@ McuProcess::Turn McuProcess::wait() {
         corrupted(why);
         return Turn::Stopped;
       }
+      if (turn_.halt && !halt_) halt_ = McuHalt{turn_.halted_ns, turn_.halt == SEAR_HALT_EMPTY_LOOP_IRQ_OFF};
       switch (turn_.request) {
         case SEAR_REQUEST_QUANTUM_DONE: return Turn::QuantumDone;
         case SEAR_REQUEST_DRAIN:

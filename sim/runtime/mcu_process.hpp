@@ -24,6 +24,16 @@ struct McuFailure {
   std::string last_call;  // the name of its last HAL call
 };
 
+// The MCU halted for good in an endless empty loop (`while (true);`) but stays in the run: its
+// interrupts still run (unless they were off), its queued bytes still leave.
+struct McuHalt {
+  std::int64_t time_ns;  // when it entered the loop
+  bool interrupts_off;   // halted with interrupts off (or inside a handler): nothing more runs
+};
+
+// "an endless empty loop; its interrupts still run" or "...; interrupts off, nothing more runs"
+std::string describe(const McuHalt& halt);
+
 // "exited with code 0", "crashed with signal 11 (SIGSEGV)", ...
 std::string describe(const McuFailure& failure);
 // "exited", "crashed", "hung", "refused", "corrupted": the summary's kind.
@@ -36,6 +46,7 @@ struct McuProcessOptions {
   std::int64_t call_cost_ns = 0;               // what one HAL call costs, the simulator's own copy
   std::uint64_t max_file_bytes = UINT64_MAX;   // the most the firmware may write to any one file
   std::vector<std::string> args;               // after its name: an engine's own arguments (engines/avr)
+  std::string eeprom_file;                     // kept EEPROM (SEAR_EEPROM_FD_ENV), created if missing; empty: none
 };
 
 class McuProcess {
@@ -66,14 +77,15 @@ class McuProcess {
   const std::optional<McuFailure>& failure() const { return failure_; }
   // The firmware's clock at its last checked hand-back.
   std::int64_t clock_ns() const { return watch_.clock_ns; }
+  // Set from the turn at which the firmware reported that it halted.
+  const std::optional<McuHalt>& halt() const { return halt_; }
   // Whether the firmware has written to its standard output (not its stderr) so far.
   bool wrote_stdout();
   // Its last HAL call as last checked, not as the firmware may since have written it.
   const char* last_call_name() const { return hal_call_name(watch_.last_call); }
 
  private:
-  void spawn(const std::string& executable, const std::string& host_log, std::uint64_t max_file_bytes,
-             const std::vector<std::string>& args);
+  void spawn(const std::string& executable, const std::string& host_log, const McuProcessOptions& options);
   void stop(McuFailure failure);
   void corrupted(const char* why);
   void read_unfinished_turn();
@@ -92,6 +104,7 @@ class McuProcess {
   sear_link_turn turn_{};
   std::vector<sear_event> events_;
   std::optional<McuFailure> failure_;
+  std::optional<McuHalt> halt_;
 };
 
 }  // namespace sear

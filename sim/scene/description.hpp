@@ -315,6 +315,12 @@ struct McuDesc {
   std::vector<UartDesc> uarts;
   std::string can_bus;  // the <can_bus> its CAN controller is on, empty: none
   SourceRef can_source;
+  // <eeprom persist="true" file="...">: the file (absolute) its EEPROM is kept in from run to run;
+  // empty: erased (0xFF) at each run. Without 'file', the project loader names it
+  // ROBOT.MCU.eeprom beside the project file.
+  bool eeprom_persist = false;
+  std::string eeprom_file;
+  SourceRef eeprom_source;
 };
 
 // What importing a URDF decided and saw, for `sear check` and the viewer.

@@ -208,6 +208,30 @@ void read_firmware(ElementReader& r, McuDesc& mcu) {
   r.finish();
 }
 
+// <eeprom>: whether the EEPROM is kept from run to run, and in which file (docs/arduino.md).
+void read_eeprom(ElementReader& r, McuDesc& mcu) {
+  mcu.eeprom_source = {r.file(), r.line()};
+  const bool has_file = r.has("file");
+  const bool persist = r.choice("persist", {"false", "true"}, has_file ? 1 : 0) == 1;
+  if (has_file && !persist) {
+    r.error("<eeprom> 'file' keeps the EEPROM from run to run, which persist=\"false\" says not to do");
+  } else if (has_file) {
+    const std::string written = r.text("file", "");
+    const std::string path = std::filesystem::absolute(path_beside(r.file(), written)).lexically_normal().string();
+    std::error_code error;
+    const auto folder = std::filesystem::path(path).parent_path();
+    if (written.empty())
+      r.error("<eeprom> 'file' is empty; leave it out for ROBOT.MCU.eeprom beside the project file");
+    else if (std::filesystem::is_directory(path, error))
+      r.error(fmt::format("<eeprom> file '{}' is a folder, expected a file ({})", written, path));
+    else if (!std::filesystem::is_directory(folder, error))
+      r.error(fmt::format("<eeprom> file '{}' is in a folder that does not exist ({})", written, folder.string()));
+    mcu.eeprom_file = path;
+  }
+  mcu.eeprom_persist = persist;
+  r.finish();
+}
+
 }  // namespace
 
 void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diagnostics& diagnostics, McuDesc& mcu) {
@@ -226,14 +250,15 @@ void read_mcu(const tinyxml2::XMLElement& element, const std::string& file, Diag
       r.whole_number("console_uart", 0, Range::between(-1, 3, "0..3, or -1 for no console")));
   check_at_most_one(element, file, diagnostics, {"firmware"});
   if (!element.FirstChildElement("firmware")) r.error("<mcu> needs a <firmware> naming its executable or sources");
-  check_at_most_one(element, file, diagnostics, {"can"});
-  std::vector<std::string> allowed = {"firmware", "motor", "servo", "uart", "can"};
+  check_at_most_one(element, file, diagnostics, {"can", "eeprom"});
+  std::vector<std::string> allowed = {"firmware", "motor", "servo", "uart", "can", "eeprom"};
   for (const DeviceKind* k : device_kinds()) allowed.emplace_back(k->element);
   r.children(allowed,
              [&](const tinyxml2::XMLElement& child) {
                ElementReader c(&child, file, diagnostics);
                const std::string kind = child.Name();
                if (kind == "firmware") read_firmware(c, mcu);
+               else if (kind == "eeprom") read_eeprom(c, mcu);
                else if (const DeviceKind* device = find_device_kind(kind)) mcu.devices.push_back(read_device(c, *device));
                else if (kind == "motor") mcu.motors.push_back(read_motor_wiring(c));
                else if (kind == "can") {

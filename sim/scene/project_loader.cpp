@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <unordered_map>
 
@@ -60,6 +61,25 @@ void check_can_buses(const ProjectDesc& project, Diagnostics& diagnostics) {
                                       "name=\"{}\">{}",
                                       robot.name, mcu.name, mcu.can_bus, mcu.can_bus,
                                       did_you_mean(diagnostics, mcu.can_bus, names)));
+}
+
+// A kept EEPROM without a file of its own is ROBOT.MCU.eeprom beside the project file, which
+// outlives the run's output folder; no two MCUs keep theirs in one file.
+void place_eeproms(ProjectDesc& project, Diagnostics& diagnostics) {
+  std::map<std::string, std::string> owner;
+  const auto folder = std::filesystem::absolute(project.file).parent_path();
+  for (auto& robot : project.robots) {
+    for (auto& mcu : robot.mcus) {
+      if (!mcu.eeprom_persist) continue;
+      const std::string id = robot.name + "." + mcu.name;
+      if (mcu.eeprom_file.empty()) mcu.eeprom_file = (folder / (id + ".eeprom")).lexically_normal().string();
+      const auto [it, fresh] = owner.emplace(mcu.eeprom_file, id);
+      if (!fresh)
+        diagnostics.error(mcu.eeprom_source.file, mcu.eeprom_source.line,
+                          fmt::format("mcu {} keeps its EEPROM in {}, as mcu {} does; give each its own <eeprom file>",
+                                      id, mcu.eeprom_file, it->second));
+    }
+  }
 }
 
 }  // namespace
@@ -116,6 +136,7 @@ std::optional<ProjectDesc> load_project_text(const std::string& xml, const std::
   check_at_most_one(*root, path, diagnostics, {"run", "expect"});
   for (const auto& robot : project.robots) validate_robot(robot, diagnostics);
   check_can_buses(project, diagnostics);
+  place_eeproms(project, diagnostics);
 
   // Collision reports name what was hit: every obstacle and robot needs a name of its own. A hash
   // map keeps this linear: a generated world of 160 000 boxes is checked in well under a second.

@@ -16,8 +16,11 @@ namespace {
 
 // eeprom_read prints a line every 500 ms (three by 1.2 s); the others are done in 0.3 s (about 100
 // bytes at 9600 baud).
-std::string project(const std::string& firmware_attribute, const std::string& engine = "native", double duration_s = 0.3) {
-  return rover_project("    <mcu name=\"main\" engine=\"" + engine + "\">\n      <firmware " + firmware_attribute +
+// `eeprom`: an <eeprom> element, on the MCU's first line inside <mcu> (the project's line 9).
+std::string project(const std::string& firmware_attribute, const std::string& engine = "native", double duration_s = 0.3,
+                    const std::string& eeprom = "") {
+  return rover_project("    <mcu name=\"main\" engine=\"" + engine + "\">\n" +
+                           (eeprom.empty() ? "" : "      " + eeprom + "\n") + "      <firmware " + firmware_attribute +
                            "/>\n    </mcu>\n",
                        "", duration_s);
 }
@@ -27,16 +30,6 @@ std::vector<std::string> console(const SearRun& run) {
   std::vector<std::string> out;
   for (const auto& line : lines_of(run.file("rover.main.console.log"))) out.push_back(line.substr(line.find(' ') + 1));
   return out;
-}
-
-// A wrapper the project names as the executable: the simulator gives a firmware a fixed
-// environment, and SEAR_EEPROM_FILE is how the HAL keeps an MCU's EEPROM between runs.
-std::string with_eeprom_file(const TempDir& dir, const std::string& name, const std::string& executable) {
-  const auto wrapper = dir.path() / (name + ".sh");
-  std::ofstream(wrapper) << "#!/bin/sh\nSEAR_EEPROM_FILE=" << (dir.path() / "main.eeprom").string() << " exec "
-                         << executable << "\n";
-  std::filesystem::permissions(wrapper, std::filesystem::perms::owner_all);
-  return wrapper.string();
 }
 
 // eeprom_read prints "address<TAB>value" every 500 ms from address 0: an erased chip reads 255.
@@ -50,19 +43,52 @@ TEST(DebianEepromRead, AnErasedChipReads255AtEveryAddress) {
   for (std::size_t i = 0; i < want.size(); ++i) EXPECT_EQ(got[i], want[i]);
 }
 
+// The first bytes eeprom_put leaves: 123.456f in IEEE 754 single precision, little-endian (as on
+// the host and on the AVR), at address 0.
+const std::string kPutFloat("\x79\xe9\xf6\x42", 4);
+
 // eeprom_put writes 123.456f and {3.14159f, 65, "Working!"}; eeprom_get, run afterwards on the same
-// MCU's persisted EEPROM, reads them back as its comments say. Print gives floats 2 decimals unless
-// told 3.
+// MCU's kept EEPROM (<eeprom persist="true">: the file rover.main.eeprom beside the project, which
+// outlives the run's output folder), reads them back as its comments say. Print gives floats 2
+// decimals unless told 3.
 TEST(DebianEepromPutGet, WhatOneRunPutsTheNextGetsWhenTheEepromPersists) {
   TempDir dir;
-  const SearRun put = run_sear(dir, project("executable=\"" + with_eeprom_file(dir, "put", EEPROM_PUT) + "\""));
+  const std::string keep = "<eeprom persist=\"true\"/>";
+  const SearRun put = run_sear(dir, project(std::string("executable=\"") + EEPROM_PUT + "\"", "native", 0.3, keep));
   ASSERT_EQ(put.exit_code, 0) << put.err;
   EXPECT_EQ(console(put).at(0), "Written float data type!");
-  const SearRun get = run_sear(dir, project("executable=\"" + with_eeprom_file(dir, "get", EEPROM_GET) + "\""));
+  const std::string cells = read_file(dir.path() / "rover.main.eeprom");
+  ASSERT_EQ(cells.size(), 4096u);  // the ATmega2560's 4 KiB, erased past what was written
+  EXPECT_EQ(cells.substr(0, 4), kPutFloat);
+  EXPECT_EQ(static_cast<unsigned char>(cells[4095]), 0xFF);
+  const SearRun get = run_sear(dir, project(std::string("executable=\"") + EEPROM_GET + "\"", "native", 0.3, keep));
   ASSERT_EQ(get.exit_code, 0) << get.err;
   const std::vector<std::string> want{"Read float from EEPROM: 123.456", "Read custom object from EEPROM: ", "3.14", "65",
                                       "Working!"};
   EXPECT_EQ(console(get), want) << get.file("rover.main.console.log");
+}
+
+// A bad <eeprom> is refused with the project file's line.
+TEST(DebianEepromPutGet, ABadEepromElementNamesItsLine) {
+  TempDir dir;
+  const std::string firmware = std::string("executable=\"") + EEPROM_GET + "\"";
+  SearRun run = run_sear(dir, project(firmware, "native", 0.3, "<eeprom persist=\"maybe\"/>"));
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("project.xml:9: error:"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("persist"), std::string::npos) << run.err;
+  run = run_sear(dir, project(firmware, "native", 0.3, "<eeprom file=\"no/such/folder/main.eeprom\"/>"));
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("project.xml:9: error: <eeprom> file 'no/such/folder/main.eeprom' is in a folder that does "
+                         "not exist"),
+            std::string::npos)
+      << run.err;
+  run = run_sear(dir, project(firmware, "native", 0.3, "<eeprom persist=\"false\" file=\"main.eeprom\"/>"));
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("project.xml:9: error: <eeprom> 'file' keeps the EEPROM"), std::string::npos) << run.err;
+  run = run_sear(dir, project(firmware, "native", 0.3, "<eeprom persist=\"true\" size=\"4096\"/>"));
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("project.xml:9: error:"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("file, persist"), std::string::npos) << run.err;  // the valid attributes
 }
 
 // Without persistence each run starts erased: the float's four 0xFF bytes are a NaN, and the
@@ -100,6 +126,32 @@ TEST(DebianExamplesOnTheChip, TheGenuineCoreBuildPrintsWhatTheHostBuildPrints) {
   ASSERT_GE(got.size(), 4u);
   EXPECT_EQ(got[0], "Read float from EEPROM: nan");
   EXPECT_EQ(got[3], "255");
+#endif
+}
+
+// The chip keeps its EEPROM in the same attribute's file: what the genuine core's eeprom_put wrote
+// on the AVR engine is in the file, eeprom_get on the chip reads it back in the next run, and so
+// does the host build, whose float and struct have the same bytes.
+TEST(DebianExamplesOnTheChip, TheKeptEepromPersistsOnTheAvrEngineAndAcrossEngines) {
+#ifndef EEPROM_PUT_AVR
+  GTEST_SKIP() << "this build has no AVR engine (engines/avr)";
+#else
+  TempDir dir;
+  const std::string keep = "<eeprom file=\"chip.eeprom\"/>";
+  const SearRun put = run_sear(dir, project(std::string("elf=\"") + EEPROM_PUT_AVR + "\"", "avr", 0.3, keep));
+  ASSERT_EQ(put.exit_code, 0) << put.err;
+  EXPECT_EQ(console(put).at(0), "Written float data type!");
+  const std::string cells = read_file(dir.path() / "chip.eeprom");
+  ASSERT_EQ(cells.size(), 4096u);
+  EXPECT_EQ(cells.substr(0, 4), kPutFloat);
+  const std::vector<std::string> want{"Read float from EEPROM: 123.456", "Read custom object from EEPROM: ", "3.14", "65",
+                                      "Working!"};
+  const SearRun chip_get = run_sear(dir, project(std::string("elf=\"") + EEPROM_GET_AVR + "\"", "avr", 0.3, keep));
+  ASSERT_EQ(chip_get.exit_code, 0) << chip_get.err;
+  EXPECT_EQ(console(chip_get), want);
+  const SearRun host_get = run_sear(dir, project(std::string("executable=\"") + EEPROM_GET + "\"", "native", 0.3, keep));
+  ASSERT_EQ(host_get.exit_code, 0) << host_get.err;
+  EXPECT_EQ(console(host_get), want);
 #endif
 }
 

@@ -2,11 +2,14 @@
 // the layer cannot model stops the MCU with a message naming the call.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
+#include <vector>
 
 #include "firmware_run.hpp"
 #include "model_run.hpp"
@@ -125,6 +128,56 @@ TEST(SoftwareSerialSketch, BeginStopsTheMcuNamingTheCallAndTheWayRound) {
       << run.out << run.err;
   EXPECT_NE(run.out.find("Serial1, Serial2 or Serial3"), std::string::npos);
   EXPECT_NE(run.file("rover.main.console.log").find("before"), std::string::npos);
+}
+
+// `while (true);` at the end of loop(), the Arduino idiom for "stop here": the MCU halts there and
+// the run goes on to its end and exits 0. The line printed before it still leaves byte by byte at
+// 9600 baud, and the tone started in setup() (Timer2's compare interrupt) still toggles its pin
+// every 500 us to the end.
+TEST(HaltingSketch, WhileTrueAtTheEndOfLoopHaltsTheMcuAndItsInterruptsRunOn) {
+  TempDir dir;
+  const auto sketch = dir.path() / "halting";
+  std::filesystem::create_directories(sketch);
+  const std::string line = "loop ran once, then halted";
+  std::ofstream(sketch / "halting.ino") << "void setup() { Serial.begin(9600); tone(8, 1000); }\n"
+                                           "void loop() {\n  Serial.println(\"" << line << "\");\n  while (true);\n}\n";
+  const double duration_s = 0.3;
+  const SearRun run = run_sear(dir, rover_project("    <mcu name=\"main\">\n      <firmware sketch=\"" +
+                                                  sketch.string() + "/\"/>\n    </mcu>\n",
+                                                  "", duration_s));
+  ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
+  const auto summary = nlohmann::json::parse(run.file("summary.json"));
+  ASSERT_EQ(summary["mcu_halts"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["mcu_halts"][0]["interrupts"], "on");
+  const auto halted_ns = std::llround(summary["mcu_halts"][0]["sim_time_s"].get<double>() * 1e9);
+  EXPECT_NE(run.out.find("mcu rover.main halted at sim time"), std::string::npos) << run.out;
+
+  // The line and its CR LF, once (loop() never came round again), each byte 10 bit times after
+  // the one before; the loop began once println() had queued them all, before the first left.
+  const auto console = lines_of(run.file("rover.main.console.log"));
+  ASSERT_EQ(console.size(), 1u) << run.file("rover.main.console.log");
+  EXPECT_EQ(console[0].substr(console[0].find(' ') + 1), line);
+  std::vector<std::int64_t> sent;
+  for (const auto& l : lines_of(run.file("rover.main.uart0.log"))) {
+    long long s = 0, ns = 0;
+    char direction[4] = {};
+    if (std::sscanf(l.c_str(), "%lld.%9lld %3s", &s, &ns, direction) == 3 && std::string(direction) == "tx")
+      sent.push_back(s * 1000000000 + ns);
+  }
+  ASSERT_EQ(sent.size(), line.size() + 2);
+  EXPECT_LT(halted_ns, sent.front());
+  EXPECT_NEAR(static_cast<double>(sent.back() - sent.front()), static_cast<double>(line.size() + 1) * 1e10 / 9600, 1.0);
+  // Timer2 toggles pin 8 every 500 us (prescaler 32, OCR2A 249) up to the run's end.
+  const auto changes = vcd_changes(run.file("rover.main.pins.vcd"), vcd_id_of_pin(8));
+  ASSERT_GE(changes.size(), 3u);
+  std::size_t after_halt = 0;
+  for (std::size_t k = 3; k < changes.size(); ++k) {
+    EXPECT_EQ(changes[k].time - changes[k - 1].time, 500000) << "edge " << k;
+    if (changes[k].time > halted_ns) ++after_halt;
+  }
+  // 0.3 s of 500 us half-periods: 599 or 600 edges after the first few microseconds.
+  EXPECT_GE(after_halt, 598u);
+  EXPECT_GT(changes.back().time, std::llround((duration_s - 0.0005) * 1e9));
 }
 
 // Splits one pin's VCD changes into bursts: a gap longer than `gap_ns` starts a new one.

@@ -383,6 +383,47 @@ TEST_P(BuildFlags, AMissingDefineFailsTheBuildAtItsLine) {
 
 INSTANTIATE_TEST_SUITE_P(Engines, BuildFlags, ::testing::Values("native", "avr"));
 
+// An endless empty loop halts the chip but not the run: `for (;;) {}` after sei() is halted with
+// its interrupts on, and main() returning ends in avr-libc's exit(), `cli` then `rjmp .-2`: halted
+// with interrupts off. Either is reported once, the run exits 0.
+struct Halting {
+  const char* source;
+  const char* interrupts;
+  int cycles;  // from the SBI that sets pin 13 to the loop's first RJMP
+};
+
+class AvrHalt : public ::testing::TestWithParam<Halting> {};
+
+TEST_P(AvrHalt, IsReportedWhenTheLoopBeginsAndTheRunGoesOn) {
+  TempDir dir;
+  dir.write("halting.c", GetParam().source);
+  const auto run = run_sear(dir, rover_project(avr_mcu((dir.path() / "halting.c").string()), "", 0.02));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto summary = nlohmann::json::parse(run.file("summary.json"));
+  EXPECT_EQ(summary["status"], "completed");
+  ASSERT_EQ(summary["mcu_halts"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["mcu_halts"][0]["interrupts"], GetParam().interrupts);
+  // Pin 13 (PB7) goes HIGH with an SBI, its edge stamped at the instruction's first cycle; the
+  // loop's first RJMP begins once the instructions between have run, at their cycle counts in the
+  // AVR instruction set manual. Both times are rounded down to the nanosecond.
+  const auto t = edges(run, 13);
+  ASSERT_EQ(t.size(), 2u);  // out LOW, then HIGH
+  const double halted_ns = summary["mcu_halts"][0]["sim_time_s"].get<double>() * 1e9;
+  EXPECT_NEAR(halted_ns, static_cast<double>(t[1]) + GetParam().cycles * kCycleNs, 1.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Images, AvrHalt,
+    ::testing::Values(Halting{"#include <avr/interrupt.h>\n#include <avr/io.h>\n"
+                              "int main(void) { DDRB |= _BV(PB7); PORTB |= _BV(PB7); sei(); for (;;) {} }\n",
+                              "on", 2 + 1},  // SBI, SEI
+                      Halting{"#include <avr/io.h>\n"
+                              "int main(void) { DDRB |= _BV(PB7); PORTB |= _BV(PB7); return 0; }\n",
+                              // SBI, two LDI (return 0), RET (5 cycles with the 2560's 3-byte PC),
+                              // crt's JMP to _exit, CLI
+                              "off", 2 + 1 + 1 + 5 + 3 + 1}),
+    case_name<Halting>);
+
 // A firmware the chip cannot survive stops its MCU with a report saying what the chip did.
 struct Hostile {
   const char* source;

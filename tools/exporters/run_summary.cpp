@@ -22,6 +22,11 @@ std::string describe(const McuStop& stop) {
                      static_cast<double>(stop.failure.time_ns) * 1e-9, stop.failure.last_call);
 }
 
+std::string describe(const McuHaltReport& h) {
+  return fmt::format("mcu {} halted at sim time {:.6f} s ({})", h.mcu, static_cast<double>(h.halt.time_ns) * 1e-9,
+                     describe(h.halt));
+}
+
 std::string describe(const RobotEvent& e) {
   return fmt::format("robot {} {} at sim time {:.3f} s at ({:.2f}, {:.2f}, {:.2f}) m{}", e.robot_name, to_string(e.kind),
                      static_cast<double>(e.time_ns) * 1e-9, e.position_m.x(), e.position_m.y(), e.position_m.z(),
@@ -44,6 +49,7 @@ std::string summary_text(const Simulation& sim, const RunOutcome& o) {
   for (const auto& c : sim.collisions())
     out += fmt::format("  collision at {:.3f} s: {} hit {}\n", static_cast<double>(c.time_ns) * 1e-9, c.robot, c.other);
   for (const auto& stop : o.mcu_stops) out += fmt::format("  {}\n", describe(stop));
+  for (const auto& halt : o.mcu_halts) out += fmt::format("  {}\n", describe(halt));
   for (const auto& n : o.never_sent)
     out += fmt::format("  mcu {}: {} bytes queued on uart{} never sent ({})\n", n.mcu, n.bytes.size(), n.port,
                        n.mcu_stopped ? "it stopped" : "the run ended");
@@ -117,6 +123,11 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
                               {"last_hal_call", stop.failure.last_call},
                               {"never_sent", unsent}});
   }
+  j["mcu_halts"] = nlohmann::ordered_json::array();
+  for (const auto& h : o.mcu_halts)
+    j["mcu_halts"].push_back({{"mcu", h.mcu},
+                              {"sim_time_s", static_cast<double>(h.halt.time_ns) * 1e-9},
+                              {"interrupts", h.halt.interrupts_off ? "off" : "on"}});
   j["never_sent"] = nlohmann::ordered_json::array();
   for (const auto& n : o.never_sent)
     j["never_sent"].push_back({{"mcu", n.mcu},

@@ -22,6 +22,7 @@ struct RunOutcome {
   double wall_time_s = 0;
   std::string status = "completed";  // or "interrupted", "mcu stopped", "physics failed"
   std::vector<McuStop> mcu_stops;    // firmware that crashed, exited, hung or was refused
+  std::vector<McuHaltReport> mcu_halts;  // firmware that halted in `while (true);` and ran on
   std::vector<NeverSent> never_sent;  // bytes still queued when an MCU stopped or the run ended
   std::vector<std::string> truncated_files;  // outputs that reached their size limit
   // The run's ends on the host: a device and its pseudo-terminal, a CAN bus and its interface.
@@ -52,6 +53,9 @@ struct RunOutcome {
 
 // "mcu rover.main crashed with signal 11 (...) at sim time 1.234 s; last HAL call: adc_read"
 std::string describe(const McuStop& stop);
+
+// "mcu rover.main halted at sim time 0.012509 s (an endless empty loop; its interrupts still run)"
+std::string describe(const McuHaltReport& halt);
 
 // "robot rover left the terrain at sim time 149.123 s at (20.01, -3.20, 0.41) m; it is stopped"
 std::string describe(const RobotEvent& event);

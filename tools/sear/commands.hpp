@@ -16,6 +16,7 @@ struct RunOptions {
   std::optional<double> trace_rate_hz;   // overrides the project's <run trace_rate>
   std::string engine;                    // "native" or "avr" for every MCU; empty: each <mcu engine>
   bool cross_check = false;              // run on both engines and report where they part (cross_check.cpp)
+  bool eeprom_copies = false;            // kept EEPROMs start from their files but live in the run's folder
   std::string out_dir;                   // empty: sear-out/SCENARIO (sear/run_folder.hpp)
   bool quiet = false;
   double hang_timeout_s = 5;  // host seconds a firmware may go without progress

@@ -82,6 +82,7 @@ int cross_check_command(const RunOptions& given) {
   for (int e = 0; e < 2; ++e) {
     RunOptions o = options;
     o.cross_check = false;
+    o.eeprom_copies = true;
     o.engine = engines[e];
     o.out_dir = (fs::path(options.out_dir) / engines[e]).string();
     codes[e] = run_command(o);

@@ -198,6 +198,18 @@ int run_command(const RunOptions& options) {
     PlotFolder plot_folder(out_dir);
     if (std::filesystem::exists(std::filesystem::path(out_dir) / kRunFolderMark)) plot_folder.claim(options.quiet);
     prepare_run_folder(out_dir);
+    // A cross-check runs the same project twice: each engine starts from the kept EEPROM's
+    // contents, in a copy of its own in the run's folder, and the kept file stays as it was.
+    if (options.eeprom_copies)
+      for (auto& robot : project->robots)
+        for (auto& mcu : robot.mcus) {
+          if (mcu.eeprom_file.empty()) continue;
+          const auto copy = std::filesystem::path(out_dir) / (robot.name + "." + mcu.name + ".eeprom");
+          std::error_code error;
+          if (std::filesystem::exists(mcu.eeprom_file, error))
+            std::filesystem::copy_file(mcu.eeprom_file, copy, std::filesystem::copy_options::overwrite_existing);
+          mcu.eeprom_file = copy.string();
+        }
     if (default_folder) point_latest_at(out_dir);
     write_world_json(out_dir + "/world.json", *project);
     std::unique_ptr<LcmBridge> lcm;
@@ -289,7 +301,7 @@ int run_command(const RunOptions& options) {
 
     trace.write_row(sim);
     std::int64_t steps = 0;
-    std::size_t stops_reported = 0, events_reported = 0;
+    std::size_t stops_reported = 0, events_reported = 0, halts_reported = 0;
     std::vector<bool> stdout_told(lockstep.mcu_count());
     bool physics_failed = false;
     bool reset = false, controller_gone = false, view_reset = false;
@@ -338,6 +350,11 @@ int run_command(const RunOptions& options) {
         if (checker) checker->mcu_stopped(stop.mcu, stop.failure.time_ns, describe(stop));
         if (view_model) view_model->mcu_stopped(stop.mcu, describe(stop));
         flush_files();
+      }
+      // A halted MCU is no failure: said once, when it halts, and the run goes on.
+      for (; halts_reported < lockstep.halts().size(); ++halts_reported) {
+        if (show_progress && next_progress_s > 2.0) fmt::print(stderr, "\n");
+        fmt::print(stderr, "sear: {}; the run goes on\n", describe(lockstep.halts()[halts_reported]));
       }
       // printf() reaches the host log only: said once, the first time, where the user looks.
       for (std::size_t i = 0; i < lockstep.mcu_count(); ++i) {
@@ -410,6 +427,7 @@ int run_command(const RunOptions& options) {
     outcome.seed = project->run.seed;
     outcome.wall_time_s = seconds_since(start);
     outcome.mcu_stops = lockstep.stops();
+    outcome.mcu_halts = lockstep.halts();
     outcome.never_sent = capture.never_sent();
     outcome.host_ports = host_ports.final_listing();
     outcome.avr_reports = avr_reports;
