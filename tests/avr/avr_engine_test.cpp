@@ -187,6 +187,38 @@ TEST(AvrEngine, TwiAndSpiMastersReadTheImusWhoAmIByRegisters) {
       << run.file("rover.main.console.log") << run.file("rover.main.host.log");
 }
 
+// Every TWI step as the datasheet's status table has it (24-3, 24-4), for a master that polls
+// TWINT at once after each TWCR write, as the HAL, Wire and most drivers do; and bytes that take
+// the bus clock's time. simavr 1.6 alone gives 28h for an acknowledged SLA+W and 30h for a refused
+// one (data statuses), never clears TWINT when the firmware writes it one (the next poll sees the
+// last step's flag), and paces a TWI byte at 9 us and an SPI byte at 100 us whatever the clock.
+TEST(AvrEngine, TwiStatusesAndBusByteTimesAreTheDatasheets) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("bus_steps.c"),
+                                                       "      <hmc5883l name=\"compass\" pos=\"0 0 0.1\"/>\n"
+                                                       "      <mpu6000 name=\"imu_spi\" cs=\"53\" pos=\"0 0 0.05\"/>\n"),
+                                               "", 0.02));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string console = run.file("rover.main.console.log");
+  const std::regex answer("twi ((?:[0-9A-F]{2} )+)h ([0-9A-F ]+) t (\\d+) spi ([0-9A-F]{2}) t (\\d+)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(console, m, answer)) << console << run.file("rover.main.host.log");
+  // START, SLA+W ACK, data ACK, repeated START, SLA+R ACK, data ACK, ACK, NACK (the last byte);
+  // then at 0x33: START, SLA+W NACK; START, SLA+R NACK.
+  EXPECT_EQ(m[1].str(), "08 18 28 10 40 50 50 58 08 20 08 48 ");
+  EXPECT_EQ(m[2].str(), "48 34 33");  // the HMC5883L's identification, "H43"
+  // A byte and its acknowledge are 9 SCL periods of 16 + 2 TWBR = 40 cycles; the measurement adds
+  // its own instructions (the TWCR store, up to one more 5-cycle poll, the TCNT1 reads): under 16.
+  const int twi_cycles = std::stoi(m[3].str());
+  EXPECT_GE(twi_cycles, 9 * 40);
+  EXPECT_LT(twi_cycles, 9 * 40 + 16);
+  EXPECT_EQ(m[4].str(), "68");  // WHO_AM_I (MPU-6000 register map, register 117)
+  // 8 SCK periods of 16 cycles at clk/16, and the same under 16 for the measuring.
+  const int spi_cycles = std::stoi(m[5].str());
+  EXPECT_GE(spi_cycles, 8 * 16);
+  EXPECT_LT(spi_cycles, 8 * 16 + 16);
+}
+
 // The echo pulses (rise, fall) on ECHO (pin 10) of a run of echo_ping.c, each with the fall of the
 // TRIG pulse (pin 24) that started it.
 struct Echo {
