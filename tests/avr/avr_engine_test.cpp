@@ -175,6 +175,36 @@ TEST(AvrEngine, UsartOverrunKeepsThreeBytesAndSetsDorUntilRead) {
   EXPECT_EQ(report["usart_overruns"], nlohmann::json::parse("[3, 0, 0, 0]")) << report.dump();
 }
 
+// Three bytes held while the receive interrupt is off are taken back to back once it is on:
+// RXC0 stays set while a byte waits (UCSRnA in the datasheet), so the ISR runs again right after
+// its RETI. simavr 1.6 alone lets a byte be read only a frame after the one before (1.04 ms at
+// 9600 baud), and a firmware held up once (an SPI read in another ISR) never catches up with a
+// fast stream: every later delay overruns.
+TEST(AvrEngine, UsartReceiveBacklogIsTakenBackToBack) {
+  TempDir dir;
+  std::string capture = "# SEAR UART capture: three bytes back to back, 8N1 at 9600 (1.04 ms a frame)\n";
+  for (int i = 0; i < 3; ++i) {
+    char line[64];
+    std::snprintf(line, sizeof line, "0.%09d tx %02x\n", 1000000 + i * 1040000, 'A' + i);
+    capture += line;
+  }
+  dir.write("bytes.log", capture);
+  const auto run = run_sear(
+      dir, rover_project(avr_mcu(test_firmware("usart_backlog.c"), "      <uart port=\"0\" receive=\"bytes.log\"/>\n"),
+                         "", 0.02));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string console = run.file("rover.main.console.log");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(console, m, std::regex("g (\\d+) (\\d+)"))) << console;
+  // From one entry's TCNT1 read to the next (avr-gcc -Os): the rest of the ISR's body (25 cycles),
+  // its epilogue (20) and RETI (5), one instruction of the main loop (up to 2), the interrupt's
+  // entry with a 3-byte PC (5) and the vector's JMP (3), the prologue (21): 81 cycles, 10 ticks of
+  // 8 or 11 as the prescaler's phase falls; 12 allows a longer main-loop instruction. A frame
+  // would be 16640 cycles, 2080 ticks.
+  EXPECT_LE(std::stoi(m[1].str()), 12) << console;
+  EXPECT_LE(std::stoi(m[2].str()), 12) << console;
+}
+
 TEST(AvrEngine, TwiAndSpiMastersReadTheImusWhoAmIByRegisters) {
   TempDir dir;
   const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("imu_registers.c"),
