@@ -407,6 +407,89 @@ TEST(AvrEngine, TheAvoidersAvrBuildDrivesItsWorldWithoutTouchingAWall) {
   EXPECT_NE(read_file(out / "rover.main.console.log").find("avoider: ready"), std::string::npos);
 }
 
+// SICK's telegram CRC (telegram listing, "CRC calculation"), to find whole scans in a capture.
+std::uint16_t sick_crc(const std::vector<int>& t, std::size_t from, std::size_t n) {
+  std::uint16_t crc = 0;
+  int previous = 0;
+  for (std::size_t i = from; i < from + n; ++i) {
+    crc = (crc & 0x8000u) ? static_cast<std::uint16_t>(((crc & 0x7FFFu) << 1) ^ 0x8005u)
+                          : static_cast<std::uint16_t>(crc << 1);
+    crc = static_cast<std::uint16_t>(crc ^ ((previous << 8) | t[i]));
+    previous = t[i];
+  }
+  return crc;
+}
+
+// The reference rover (the default project: rover.c on an LMS200, an MPU-6000 over SPI, an
+// HMC5883L over TWI, a GPS) built for the ATmega2560 brings everything up and reaches its drive
+// loop with the scanner's scans in it. 3.5 s: the LMS200's power-up telegram comes at 2 s, its
+// configuration and the GPS's take to 2.4 s, and the second report, the first after a scan was
+// looked at, comes at 3.4 s.
+TEST(AvrEngine, TheReferenceRoversAvrBuildBringsUpItsSensorsAndSeesItsScans) {
+  TempDir dir;
+  const auto out = dir.path() / "out";
+  const std::string cmd = std::string(SEAR_BINARY) + " run " SEAR_ASSET_DIR "/projects/default.xml --engine avr " +
+                          "--quiet --duration 3.5 -o " + out.string() + " 2>" + (dir.path() / "err").string();
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_file(dir.path() / "err");
+  const std::string console = read_file(out / "rover.main.console.log");
+  // The HMC5883L answered at 0x1E with "H43" and took its settings, over the HAL's TWI master.
+  EXPECT_EQ(console.find("compass: no HMC5883L"), std::string::npos) << console;
+  EXPECT_EQ(console.find("imu: no MPU-6000"), std::string::npos) << console;
+  // The LMS200 answered at its power-up 9600 baud, moved to 500 kbaud (UBRR1 3 with U2X: exactly
+  // 500000) and took the 180 degree, 0.5 degree variant.
+  for (const char* said : {"lms: power-up telegram", "lms: answering at 9600 baud",
+                           "lms: 180 deg at 0.50 deg, streaming at 500000 baud"})
+    EXPECT_NE(console.find(said), std::string::npos) << said << "\n" << console;
+  EXPECT_EQ(console.find("lms: no answer"), std::string::npos) << console;
+  // The MPU-6000's data-ready (1 kHz: SMPLRT_DIV 0 with DLPF_CFG 3) heard on A9 from the first
+  // take_imu, after the 100 ms gyro start-up and mpu_begin, to the line: the line's time less
+  // about 0.12 s, in samples, give or take 5 % for where exactly the first take fell.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(console, m, std::regex("(\\d+\\.\\d+) imu: (\\d+) samples standing"))) << console;
+  const double imu_expected = 1000.0 * (std::stod(m[1].str()) - 0.12);
+  EXPECT_NEAR(std::stod(m[2].str()), imu_expected, 0.05 * imu_expected) << console;
+
+  // What reached USART1 from 2.2 s (streaming) to the end: whole scans, each 361 values (180
+  // degrees at 0.5), at the LMS200's 37.5 a second (two interlaced 75 Hz sweeps make one 0.5
+  // degree scan), 48.75 in 1.3 s, one either way for where the window cuts.
+  const auto rx = uart_bytes(read_file(out / "rover.main.uart1.log"), "rx");
+  std::vector<int> stream;
+  for (const auto& b : rx)
+    if (b.first >= 2200000000) stream.push_back(b.second);
+  int scans = 0;
+  std::vector<int> nearest_ahead;  // per scan: the nearest value 60 degrees either side of ahead, mm
+  for (std::size_t i = 0; i + 7 < stream.size();) {
+    const std::size_t length = static_cast<std::size_t>(stream[i + 2] | stream[i + 3] << 8);
+    if (stream[i] != 0x02 || stream[i + 1] != 0x80 || stream[i + 4] != 0xB0 || i + length + 6 > stream.size() ||
+        sick_crc(stream, i, length + 4) != (stream[i + length + 4] | stream[i + length + 5] << 8)) {
+      ++i;
+      continue;
+    }
+    const int count_word = stream[i + 5] | stream[i + 6] << 8;
+    EXPECT_EQ(count_word & 0x3FF, 361);
+    EXPECT_EQ(length, 1u + 2u + 2u * 361u + 1u);
+    const int mm_per_unit = (count_word >> 14) == 0 ? 10 : 1;  // bits 14-15: 00 cm, 01 mm
+    int nearest = 8183 * 10;
+    for (int k = 120; k <= 240; ++k) {
+      const int v = (stream[i + 7 + 2 * k] | stream[i + 8 + 2 * k] << 8) & 0x1FFF;
+      if (v > 0 && v < 8183) nearest = std::min(nearest, v * mm_per_unit);  // 8183 up: no return
+    }
+    nearest_ahead.push_back(nearest);
+    ++scans;
+    i += length + 6;
+  }
+  EXPECT_NEAR(scans, 48.75, 1.0);
+  // The rover's report after 3 s says how near the nearest return ahead is in the scans it looked
+  // at (one in four, printed to the cm below): within the range of the scans it had.
+  ASSERT_TRUE(std::regex_search(console, m, std::regex("3\\.\\d+ wp 1/4 .*lidar ahead (\\d+)\\.(\\d\\d) m")))
+      << console;
+  ASSERT_FALSE(nearest_ahead.empty());
+  const int seen_mm = std::stoi(m[1].str()) * 1000 + std::stoi(m[2].str()) * 10;
+  EXPECT_GE(seen_mm, *std::min_element(nearest_ahead.begin(), nearest_ahead.end()) - 10) << console;
+  EXPECT_LE(seen_mm, *std::max_element(nearest_ahead.begin(), nearest_ahead.end())) << console;
+}
+
 // `sear run --cross-check`: the avoider's first 3 s on both engines say and send the same and end
 // within the stated bound of each other (its decisions differ in time by the HAL's cost model
 // against real cycles, about a millisecond, which moves the rover well under a centimetre).
