@@ -490,6 +490,38 @@ TEST(AvrEngine, TheReferenceRoversAvrBuildBringsUpItsSensorsAndSeesItsScans) {
   EXPECT_LE(seen_mm, *std::max_element(nearest_ahead.begin(), nearest_ahead.end())) << console;
 }
 
+// Every occurrence of `from` in `text` replaced by `to`.
+std::string replace_all(std::string text, const std::string& from, const std::string& to) {
+  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+// The reference rover's own scenario (firmware_examples/rover/scenario_default.xml: bring-up by
+// 4 s, waypoint 1 by 24 s, round the obstacles towards waypoint 2 by 36 s, no collision) met by
+// its AVR build: the default project with engine="avr", its relative paths made absolute.
+TEST(AvrEngine, TheReferenceRoversAvrBuildMeetsItsScenario) {
+  TempDir dir;
+  const std::string assets = SEAR_ASSET_DIR;
+  std::string project = read_file(assets + "/projects/default.xml");
+  const std::string mcu = "<mcu name=\"main\" clock_hz=\"16e6\">";
+  ASSERT_NE(project.find(mcu), std::string::npos);
+  project = replace_all(project, mcu, "<mcu name=\"main\" engine=\"avr\" clock_hz=\"16e6\">");
+  project = replace_all(replace_all(project, "\"../../", "\"" + assets + "/../"), " ../../", " " + assets + "/../");
+  project = replace_all(project, "\"../", "\"" + assets + "/");
+  dir.write("project/default_avr.xml", project);
+  std::string scenario = read_file(assets + "/../firmware_examples/rover/scenario_default.xml");
+  const std::string original = "project=\"../../assets/projects/default.xml\"";
+  ASSERT_NE(scenario.find(original), std::string::npos);
+  dir.write("scenario/rover_avr.xml", replace_all(scenario, original, "project=\"../project/default_avr.xml\""));
+  const std::string cmd = std::string(SEAR_BINARY) + " test " + (dir.path() / "scenario").string() + " -o " +
+                          (dir.path() / "out").string() + " >" + (dir.path() / "log").string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  const std::string log = read_file(dir.path() / "log");
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << log;
+  EXPECT_NE(log.find("PASS  rover_avr.xml seed 1: 11 expectations met"), std::string::npos) << log;
+}
+
 // `sear run --cross-check`: the avoider's first 3 s on both engines say and send the same and end
 // within the stated bound of each other (its decisions differ in time by the HAL's cost model
 // against real cycles, about a millisecond, which moves the rover well under a centimetre).
