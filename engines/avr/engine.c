@@ -337,6 +337,7 @@ static void load_chip(const char *elf_path, const char *report_path) {
   core_reset = avr->reset;
   avr->reset = on_reset;
   engine.avr = avr;
+  avr_pin_change_init(); /* its vectors before the profile hooks every vector */
   avr_profile_init(report_path, &firmware);
 }
 

@@ -37,6 +37,7 @@ void engine_fatal(const char *format, ...) __attribute__((noreturn, format(print
 
 /* Pins (pins.c): the board interface of devices.h, the firmware's outputs as events. */
 void avr_pins_init(void);
+void avr_pin_change_init(void); /* PCINT1 and PCINT2, which simavr 1.6 lacks */
 void avr_pins_poll_pwm(void); /* timer outputs: duty and servo pulses from the registers */
 uint8_t avr_pin_at(int port, int bit); /* the board's pin on port A..L (0..10) bit, >= SEAR_LINK_PINS if none */
 

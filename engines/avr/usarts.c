@@ -8,6 +8,7 @@
 #include <avr_uart.h>
 #include <sim_avr.h>
 #include <sim_cycle_timers.h>
+#include <sim_interrupts.h>
 #include <sim_io.h>
 
 #include "engine.h"
@@ -124,13 +125,22 @@ static void arrive(int64_t time_ns, uint8_t port, uint8_t byte) {
   arrivals[at].byte = byte;
 }
 
+static uint32_t fifo_fill(const avr_uart_t *u) { return (uint32_t)((u->input.write - u->input.read) & 63u); }
+
 /* DORn "is valid until the receive buffer (UDRn) is read" (UCSRnA in the datasheet): simavr never
  * clears it, so a read of UDRn does, after simavr's own read has taken the byte. The chip keeps the
- * flag with the frame it follows; here it goes with the first read after the loss. */
+ * flag with the frame it follows; here it goes with the first read after the loss.
+ * RXCn "is set when there are unread data in the receive buffer": simavr 1.6 clears it on a read
+ * that comes sooner than one frame after the last (it will not let a byte be read "faster than the
+ * baud rate") and raises it again a frame later, so a firmware that was held up never catches up:
+ * the bytes waiting stay waiting, and the next delay overruns. The flag, and the interrupt, stay
+ * set while a byte waits, as on the chip, and an RX ISR takes the backlog back to back. */
 static uint8_t udr_read(avr_t *avr, avr_io_addr_t addr, void *param) {
   const int n = (int)(intptr_t)param;
   const uint8_t byte = ports[n].udr_read ? ports[n].udr_read(avr, addr, ports[n].udr_param) : avr->data[addr];
   avr->data[ucsra[n]] = (uint8_t)(avr->data[ucsra[n]] & ~DOR);
+  avr_uart_t *u = ports[n].uart;
+  if (u && fifo_fill(u) && (avr->data[UCSRB(n)] & RXEN)) avr_raise_interrupt(avr, &u->rxc);
   return byte;
 }
 
@@ -185,8 +195,6 @@ void avr_usarts_take_quantum(void) {
 }
 
 int64_t avr_usarts_next_ns(void) { return arrival_count ? arrivals[arrival_head].time_ns : INT64_MAX; }
-
-static uint32_t fifo_fill(const avr_uart_t *u) { return (uint32_t)((u->input.write - u->input.read) & 63u); }
 
 void avr_usarts_run_due(int64_t now_ns) {
   while (arrival_count && arrivals[arrival_head].time_ns <= now_ns) {

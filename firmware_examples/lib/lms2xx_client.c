@@ -38,7 +38,12 @@
  * data or line noise, a length that does not fit, a wrong CRC), the hunt resumes at the next STX
  * after the false one, among the bytes already taken, so that a false start cannot swallow the
  * real telegram behind it. The stream has no pauses long enough to rely on for that. */
-#define RING 512 /* 10 ms at 500 kbaud: the main loop comes back sooner than that */
+/* 41 ms at 500 kbaud. The reference rover's main loop on the ATmega2560 (the AVR engine's
+ * instruction-accurate run) takes 4 ms on average but up to 18 ms now and then, with a report to
+ * format or a compass to read, and a scan comes as 732 bytes back to back in 14.6 ms: 512 bytes
+ * overflowed every few scans, and a scan short of one byte is lost. A power of two, so that the
+ * 16-bit indices wrap with it. */
+#define RING 2048
 static uint8_t ring[RING];
 static volatile uint16_t ring_head; /* written by the interrupt only */
 static uint16_t ring_tail;          /* read by the interrupt, written with interrupts held off */

@@ -78,13 +78,20 @@ static void say(const char *text) { uart_print(CONSOLE, text); }
 
 /* ---- interrupts ---- */
 
-/* Each data-ready pulse's sample is read at once and summed; the main loop takes the sums. */
+/* Each data-ready pulse's sample is read at once and summed; the main loop takes the sums.
+ * The read (15 SPI bytes and the pin calls around them) takes about 100 us on the ATmega2560,
+ * five bytes of the scanner's 500 kbaud stream, which its USART holds only three of: so other
+ * interrupts are let in meanwhile, the scanner's receive handler above all. Nothing else uses
+ * the SPI bus or the sums, and the next data-ready pulse is a millisecond away; the pulse's own
+ * falling edge may come in the middle, and returns at once. */
 static volatile int32_t imu_sum_gz, imu_sum_ax, imu_sum_ay, imu_sum_az;
 static volatile uint16_t imu_samples;
 
 static void on_imu(void) {
   if (!digital_read(IMU_INT)) return; /* the pulse's falling edge */
+  irq_enable();
   const struct mpu_sample s = mpu_read_sample();
+  irq_disable();
   imu_sum_gz += s.gz;
   imu_sum_ax += s.ax;
   imu_sum_ay += s.ay;

@@ -45,7 +45,12 @@ SerialWire::SerialWire(bool inverted) : inverted_(inverted) {}
 
 void SerialWire::send(const serial_byte& byte) {
   if (byte.baud == 0) return;  // a frame of no duration cannot be on a line
-  const int64_t start = byte.end_ns - serial_frame_ns(byte.baud);
+  // One sender's frames never overlap. A rate that is not a whole baud (an AVR's 9615.4 for
+  // 9600: f / (8 (UBRR + 1))) reaches the line rounded, and its back-to-back frames, stamped at the
+  // true rate, would each seem to start a few ns before the one before it ended: that start edge
+  // would fall behind where the receiver resumed hunting, and the byte would be read from the
+  // middle. The sender started it when the one before it ended.
+  const int64_t start = std::max(byte.end_ns - serial_frame_ns(byte.baud), last_end_ns_);
   frames_.push_back(Frame{start, byte.end_ns, byte.baud, byte.value});
   last_end_ns_ = std::max(last_end_ns_, byte.end_ns);
   last_sender_baud_ = byte.baud;

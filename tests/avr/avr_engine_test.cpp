@@ -175,6 +175,36 @@ TEST(AvrEngine, UsartOverrunKeepsThreeBytesAndSetsDorUntilRead) {
   EXPECT_EQ(report["usart_overruns"], nlohmann::json::parse("[3, 0, 0, 0]")) << report.dump();
 }
 
+// Three bytes held while the receive interrupt is off are taken back to back once it is on:
+// RXC0 stays set while a byte waits (UCSRnA in the datasheet), so the ISR runs again right after
+// its RETI. simavr 1.6 alone lets a byte be read only a frame after the one before (1.04 ms at
+// 9600 baud), and a firmware held up once (an SPI read in another ISR) never catches up with a
+// fast stream: every later delay overruns.
+TEST(AvrEngine, UsartReceiveBacklogIsTakenBackToBack) {
+  TempDir dir;
+  std::string capture = "# SEAR UART capture: three bytes back to back, 8N1 at 9600 (1.04 ms a frame)\n";
+  for (int i = 0; i < 3; ++i) {
+    char line[64];
+    std::snprintf(line, sizeof line, "0.%09d tx %02x\n", 1000000 + i * 1040000, 'A' + i);
+    capture += line;
+  }
+  dir.write("bytes.log", capture);
+  const auto run = run_sear(
+      dir, rover_project(avr_mcu(test_firmware("usart_backlog.c"), "      <uart port=\"0\" receive=\"bytes.log\"/>\n"),
+                         "", 0.02));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string console = run.file("rover.main.console.log");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(console, m, std::regex("g (\\d+) (\\d+)"))) << console;
+  // From one entry's TCNT1 read to the next (avr-gcc -Os): the rest of the ISR's body (25 cycles),
+  // its epilogue (20) and RETI (5), one instruction of the main loop (up to 2), the interrupt's
+  // entry with a 3-byte PC (5) and the vector's JMP (3), the prologue (21): 81 cycles, 10 ticks of
+  // 8 or 11 as the prescaler's phase falls; 12 allows a longer main-loop instruction. A frame
+  // would be 16640 cycles, 2080 ticks.
+  EXPECT_LE(std::stoi(m[1].str()), 12) << console;
+  EXPECT_LE(std::stoi(m[2].str()), 12) << console;
+}
+
 TEST(AvrEngine, TwiAndSpiMastersReadTheImusWhoAmIByRegisters) {
   TempDir dir;
   const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("imu_registers.c"),
@@ -185,6 +215,38 @@ TEST(AvrEngine, TwiAndSpiMastersReadTheImusWhoAmIByRegisters) {
   // WHO_AM_I reads 0x68 on both parts (MPU-6000/6050 register map, register 117).
   EXPECT_NE(run.file("rover.main.console.log").find("twi 68 spi 68"), std::string::npos)
       << run.file("rover.main.console.log") << run.file("rover.main.host.log");
+}
+
+// Every TWI step as the datasheet's status table has it (24-3, 24-4), for a master that polls
+// TWINT at once after each TWCR write, as the HAL, Wire and most drivers do; and bytes that take
+// the bus clock's time. simavr 1.6 alone gives 28h for an acknowledged SLA+W and 30h for a refused
+// one (data statuses), never clears TWINT when the firmware writes it one (the next poll sees the
+// last step's flag), and paces a TWI byte at 9 us and an SPI byte at 100 us whatever the clock.
+TEST(AvrEngine, TwiStatusesAndBusByteTimesAreTheDatasheets) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("bus_steps.c"),
+                                                       "      <hmc5883l name=\"compass\" pos=\"0 0 0.1\"/>\n"
+                                                       "      <mpu6000 name=\"imu_spi\" cs=\"53\" pos=\"0 0 0.05\"/>\n"),
+                                               "", 0.02));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string console = run.file("rover.main.console.log");
+  const std::regex answer("twi ((?:[0-9A-F]{2} )+)h ([0-9A-F ]+) t (\\d+) spi ([0-9A-F]{2}) t (\\d+)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(console, m, answer)) << console << run.file("rover.main.host.log");
+  // START, SLA+W ACK, data ACK, repeated START, SLA+R ACK, data ACK, ACK, NACK (the last byte);
+  // then at 0x33: START, SLA+W NACK; START, SLA+R NACK.
+  EXPECT_EQ(m[1].str(), "08 18 28 10 40 50 50 58 08 20 08 48 ");
+  EXPECT_EQ(m[2].str(), "48 34 33");  // the HMC5883L's identification, "H43"
+  // A byte and its acknowledge are 9 SCL periods of 16 + 2 TWBR = 40 cycles; the measurement adds
+  // its own instructions (the TWCR store, up to one more 5-cycle poll, the TCNT1 reads): under 16.
+  const int twi_cycles = std::stoi(m[3].str());
+  EXPECT_GE(twi_cycles, 9 * 40);
+  EXPECT_LT(twi_cycles, 9 * 40 + 16);
+  EXPECT_EQ(m[4].str(), "68");  // WHO_AM_I (MPU-6000 register map, register 117)
+  // 8 SCK periods of 16 cycles at clk/16, and the same under 16 for the measuring.
+  const int spi_cycles = std::stoi(m[5].str());
+  EXPECT_GE(spi_cycles, 8 * 16);
+  EXPECT_LT(spi_cycles, 8 * 16 + 16);
 }
 
 // The echo pulses (rise, fall) on ECHO (pin 10) of a run of echo_ping.c, each with the fall of the
@@ -243,17 +305,19 @@ TEST(AvrEngine, TheEchoADeviceDrivesIsInBothEnginesWaveforms) {
 }
 
 // A quadrature encoder on pin-change pins: the motor turns on timer3's PWM, every edge of either
-// channel raises PCINT0, and the ISR's answer on pin 22 follows each edge by the datasheet's
-// instruction times plus what simavr 1.6 does differently.
-TEST(AvrEngine, PinChangeInterruptAnswersEachEncoderEdgeWithinItsCycles) {
-  const std::string wiring =
-      "      <motor name=\"left\" pwm=\"3\" dir=\"12\"/>\n"
-      "      <quadrature_encoder name=\"enc\" wheel=\"left\" a=\"10\" b=\"11\" cycles_per_rev=\"90\"/>\n";
+// channel raises a pin-change interrupt, and the ISR's answer on pin 22 follows each edge by the
+// datasheet's instruction times plus what simavr 1.6 does differently. The channels are on pins
+// a and b, the vector is `vector` (counted from 0, as simavr and the report count), and the naked
+// ISR in `firmware` toggles pin 22 once per edge.
+void encoder_edges_are_answered_within_their_cycles(const char* firmware, int a, int b, int vector) {
+  const std::string wiring = "      <motor name=\"left\" pwm=\"3\" dir=\"12\"/>\n"
+                             "      <quadrature_encoder name=\"enc\" wheel=\"left\" a=\"" +
+                             std::to_string(a) + "\" b=\"" + std::to_string(b) + "\" cycles_per_rev=\"90\"/>\n";
   TempDir dir;
-  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("pcint_encoder.c"), wiring), "", 0.3));
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware(firmware), wiring), "", 0.3));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   std::vector<std::int64_t> encoder;
-  for (const int pin : {10, 11})
+  for (const int pin : {a, b})
     for (const auto t : edges(run, pin))
       if (t > 0) encoder.push_back(t);  // t = 0: the levels the encoder starts at, not edges
   std::sort(encoder.begin(), encoder.end());
@@ -276,9 +340,21 @@ TEST(AvrEngine, PinChangeInterruptAnswersEachEncoderEdgeWithinItsCycles) {
   }
   const auto report = nlohmann::json::parse(run.file("summary.json"))["avr_engines"]["rover.main"];
   ASSERT_EQ(report["isrs"].size(), 1u) << report.dump();
-  EXPECT_EQ(report["isrs"][0]["vector"], 9);  // PCINT0: vector 10 of datasheet table 14-1, counted from 1
+  EXPECT_EQ(report["isrs"][0]["vector"], vector);
   EXPECT_EQ(report["isrs"][0]["entries"].get<std::size_t>(), encoder.size());
   EXPECT_EQ(report["isrs"][0]["latency_cycles"]["max"].get<int>(), 2);  // that one RJMP
+}
+
+TEST(AvrEngine, PinChangeInterruptAnswersEachEncoderEdgeWithinItsCycles) {
+  // PCINT0: vector 10 of datasheet table 14-1, counted from 1.
+  encoder_edges_are_answered_within_their_cycles("pcint_encoder.c", 10, 11, 9);
+}
+
+// PCINT2 (A8..A15), vector 12 of table 14-1: simavr 1.6 has no such interrupt on its ATmega2560,
+// so without the engine's an MPU-6000's data-ready pin on A9 is never heard (the reference
+// rover's IMU).
+TEST(AvrEngine, PinChangeInterruptOnA8ToA15AnswersEachEncoderEdgeWithinItsCycles) {
+  encoder_edges_are_answered_within_their_cycles("pcint2_encoder.c", 62, 63, 11);
 }
 
 // The wiring report on this engine: what the registers show the firmware read. It converts ADC
@@ -329,6 +405,121 @@ TEST(AvrEngine, TheAvoidersAvrBuildDrivesItsWorldWithoutTouchingAWall) {
   // At CRUISE (150/255) the rover makes about 0.5 m/s; 20 s of it, turns and all, is well over 4 m.
   EXPECT_GT(summary["robots"][0]["distance_m"].get<double>(), 4.0);
   EXPECT_NE(read_file(out / "rover.main.console.log").find("avoider: ready"), std::string::npos);
+}
+
+// SICK's telegram CRC (telegram listing, "CRC calculation"), to find whole scans in a capture.
+std::uint16_t sick_crc(const std::vector<int>& t, std::size_t from, std::size_t n) {
+  std::uint16_t crc = 0;
+  int previous = 0;
+  for (std::size_t i = from; i < from + n; ++i) {
+    crc = (crc & 0x8000u) ? static_cast<std::uint16_t>(((crc & 0x7FFFu) << 1) ^ 0x8005u)
+                          : static_cast<std::uint16_t>(crc << 1);
+    crc = static_cast<std::uint16_t>(crc ^ ((previous << 8) | t[i]));
+    previous = t[i];
+  }
+  return crc;
+}
+
+// The reference rover (the default project: rover.c on an LMS200, an MPU-6000 over SPI, an
+// HMC5883L over TWI, a GPS) built for the ATmega2560 brings everything up and reaches its drive
+// loop with the scanner's scans in it. 3.5 s: the LMS200's power-up telegram comes at 2 s, its
+// configuration and the GPS's take to 2.4 s, and the second report, the first after a scan was
+// looked at, comes at 3.4 s.
+TEST(AvrEngine, TheReferenceRoversAvrBuildBringsUpItsSensorsAndSeesItsScans) {
+  TempDir dir;
+  const auto out = dir.path() / "out";
+  const std::string cmd = std::string(SEAR_BINARY) + " run " SEAR_ASSET_DIR "/projects/default.xml --engine avr " +
+                          "--quiet --duration 3.5 -o " + out.string() + " 2>" + (dir.path() / "err").string();
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_file(dir.path() / "err");
+  const std::string console = read_file(out / "rover.main.console.log");
+  // The HMC5883L answered at 0x1E with "H43" and took its settings, over the HAL's TWI master.
+  EXPECT_EQ(console.find("compass: no HMC5883L"), std::string::npos) << console;
+  EXPECT_EQ(console.find("imu: no MPU-6000"), std::string::npos) << console;
+  // The LMS200 answered at its power-up 9600 baud, moved to 500 kbaud (UBRR1 3 with U2X: exactly
+  // 500000) and took the 180 degree, 0.5 degree variant.
+  for (const char* said : {"lms: power-up telegram", "lms: answering at 9600 baud",
+                           "lms: 180 deg at 0.50 deg, streaming at 500000 baud"})
+    EXPECT_NE(console.find(said), std::string::npos) << said << "\n" << console;
+  EXPECT_EQ(console.find("lms: no answer"), std::string::npos) << console;
+  // The MPU-6000's data-ready (1 kHz: SMPLRT_DIV 0 with DLPF_CFG 3) heard on A9 from the first
+  // take_imu, after the 100 ms gyro start-up and mpu_begin, to the line: the line's time less
+  // about 0.12 s, in samples, give or take 5 % for where exactly the first take fell.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(console, m, std::regex("(\\d+\\.\\d+) imu: (\\d+) samples standing"))) << console;
+  const double imu_expected = 1000.0 * (std::stod(m[1].str()) - 0.12);
+  EXPECT_NEAR(std::stod(m[2].str()), imu_expected, 0.05 * imu_expected) << console;
+
+  // What reached USART1 from 2.2 s (streaming) to the end: whole scans, each 361 values (180
+  // degrees at 0.5), at the LMS200's 37.5 a second (two interlaced 75 Hz sweeps make one 0.5
+  // degree scan), 48.75 in 1.3 s, one either way for where the window cuts.
+  const auto rx = uart_bytes(read_file(out / "rover.main.uart1.log"), "rx");
+  std::vector<int> stream;
+  for (const auto& b : rx)
+    if (b.first >= 2200000000) stream.push_back(b.second);
+  int scans = 0;
+  std::vector<int> nearest_ahead;  // per scan: the nearest value 60 degrees either side of ahead, mm
+  for (std::size_t i = 0; i + 7 < stream.size();) {
+    const std::size_t length = static_cast<std::size_t>(stream[i + 2] | stream[i + 3] << 8);
+    if (stream[i] != 0x02 || stream[i + 1] != 0x80 || stream[i + 4] != 0xB0 || i + length + 6 > stream.size() ||
+        sick_crc(stream, i, length + 4) != (stream[i + length + 4] | stream[i + length + 5] << 8)) {
+      ++i;
+      continue;
+    }
+    const int count_word = stream[i + 5] | stream[i + 6] << 8;
+    EXPECT_EQ(count_word & 0x3FF, 361);
+    EXPECT_EQ(length, 1u + 2u + 2u * 361u + 1u);
+    const int mm_per_unit = (count_word >> 14) == 0 ? 10 : 1;  // bits 14-15: 00 cm, 01 mm
+    int nearest = 8183 * 10;
+    for (int k = 120; k <= 240; ++k) {
+      const int v = (stream[i + 7 + 2 * k] | stream[i + 8 + 2 * k] << 8) & 0x1FFF;
+      if (v > 0 && v < 8183) nearest = std::min(nearest, v * mm_per_unit);  // 8183 up: no return
+    }
+    nearest_ahead.push_back(nearest);
+    ++scans;
+    i += length + 6;
+  }
+  EXPECT_NEAR(scans, 48.75, 1.0);
+  // The rover's report after 3 s says how near the nearest return ahead is in the scans it looked
+  // at (one in four, printed to the cm below): within the range of the scans it had.
+  ASSERT_TRUE(std::regex_search(console, m, std::regex("3\\.\\d+ wp 1/4 .*lidar ahead (\\d+)\\.(\\d\\d) m")))
+      << console;
+  ASSERT_FALSE(nearest_ahead.empty());
+  const int seen_mm = std::stoi(m[1].str()) * 1000 + std::stoi(m[2].str()) * 10;
+  EXPECT_GE(seen_mm, *std::min_element(nearest_ahead.begin(), nearest_ahead.end()) - 10) << console;
+  EXPECT_LE(seen_mm, *std::max_element(nearest_ahead.begin(), nearest_ahead.end())) << console;
+}
+
+// Every occurrence of `from` in `text` replaced by `to`.
+std::string replace_all(std::string text, const std::string& from, const std::string& to) {
+  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+// The reference rover's own scenario (firmware_examples/rover/scenario_default.xml: bring-up by
+// 4 s, waypoint 1 by 24 s, round the obstacles towards waypoint 2 by 36 s, no collision) met by
+// its AVR build: the default project with engine="avr", its relative paths made absolute.
+TEST(AvrEngine, TheReferenceRoversAvrBuildMeetsItsScenario) {
+  TempDir dir;
+  const std::string assets = SEAR_ASSET_DIR;
+  std::string project = read_file(assets + "/projects/default.xml");
+  const std::string mcu = "<mcu name=\"main\" clock_hz=\"16e6\">";
+  ASSERT_NE(project.find(mcu), std::string::npos);
+  project = replace_all(project, mcu, "<mcu name=\"main\" engine=\"avr\" clock_hz=\"16e6\">");
+  project = replace_all(replace_all(project, "\"../../", "\"" + assets + "/../"), " ../../", " " + assets + "/../");
+  project = replace_all(project, "\"../", "\"" + assets + "/");
+  dir.write("project/default_avr.xml", project);
+  std::string scenario = read_file(assets + "/../firmware_examples/rover/scenario_default.xml");
+  const std::string original = "project=\"../../assets/projects/default.xml\"";
+  ASSERT_NE(scenario.find(original), std::string::npos);
+  dir.write("scenario/rover_avr.xml", replace_all(scenario, original, "project=\"../project/default_avr.xml\""));
+  const std::string cmd = std::string(SEAR_BINARY) + " test " + (dir.path() / "scenario").string() + " -o " +
+                          (dir.path() / "out").string() + " >" + (dir.path() / "log").string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  const std::string log = read_file(dir.path() / "log");
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << log;
+  EXPECT_NE(log.find("PASS  rover_avr.xml seed 1: 11 expectations met"), std::string::npos) << log;
 }
 
 // `sear run --cross-check`: the avoider's first 3 s on both engines say and send the same and end
