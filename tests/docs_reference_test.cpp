@@ -292,6 +292,7 @@ std::string mcu_probe(const std::string& firmware) {
       <uart port="1" loopback="true"/>
       <uart port="2" receive="@DIR@/capture.log"/>
       <can bus="body"/>
+      <eeprom persist="false"/>
     </mcu>)";
 }
 
