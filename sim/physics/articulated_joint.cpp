@@ -117,29 +117,30 @@ ArticulatedJoint::ArticulatedJoint(PhysicsWorld& physics, const JointLinkDesc& d
   // constraint force mixing of 1 / c, so ODE solves torque = -c * rate at the end of the
   // step (implicitly: no damping can make it diverge). Rows of their own, so that a servo
   // on the joint's own motor still meets both.
-  const auto brake = [&](double max_effort, double cfm) {
-    dJointID j;
-    if (hinge) {
-      j = dJointCreateAMotor(world, nullptr);
-      dJointAttach(j, body_, parent);
-      dJointSetAMotorMode(j, dAMotorUser);
-      dJointSetAMotorNumAxes(j, 1);
-      dJointSetAMotorAxis(j, 0, 1, axis.x(), axis.y(), axis.z());
-      dJointSetAMotorParam(j, dParamVel, 0);
-      dJointSetAMotorParam(j, dParamFMax, max_effort);
-      if (cfm > 0) dJointSetAMotorParam(j, dParamCFM, cfm);
-    } else {
-      j = dJointCreateLMotor(world, nullptr);
-      dJointAttach(j, body_, parent);
-      dJointSetLMotorNumAxes(j, 1);
-      dJointSetLMotorAxis(j, 0, 1, axis.x(), axis.y(), axis.z());
-      dJointSetLMotorParam(j, dParamVel, 0);
-      dJointSetLMotorParam(j, dParamFMax, max_effort);
-      if (cfm > 0) dJointSetLMotorParam(j, dParamCFM, cfm);
-    }
-  };
-  if (desc.friction > 0) brake(desc.friction, 0);
-  if (desc.damping > 0) brake(dInfinity, 1.0 / desc.damping);
+  if (desc.friction > 0) zero_rate_row(world, body_, parent, axis, hinge, desc.friction, 0);
+  if (desc.damping > 0) zero_rate_row(world, body_, parent, axis, hinge, dInfinity, 1.0 / desc.damping);
+}
+
+void zero_rate_row(dWorldID world, dBodyID body, dBodyID other, const Eigen::Vector3d& axis, bool turning,
+                   double max_effort, double cfm) {
+  if (turning) {
+    dJointID j = dJointCreateAMotor(world, nullptr);
+    dJointAttach(j, body, other);
+    dJointSetAMotorMode(j, dAMotorUser);
+    dJointSetAMotorNumAxes(j, 1);
+    dJointSetAMotorAxis(j, 0, 1, axis.x(), axis.y(), axis.z());
+    dJointSetAMotorParam(j, dParamVel, 0);
+    dJointSetAMotorParam(j, dParamFMax, max_effort);
+    if (cfm > 0) dJointSetAMotorParam(j, dParamCFM, cfm);
+  } else {
+    dJointID j = dJointCreateLMotor(world, nullptr);
+    dJointAttach(j, body, other);
+    dJointSetLMotorNumAxes(j, 1);
+    dJointSetLMotorAxis(j, 0, 1, axis.x(), axis.y(), axis.z());
+    dJointSetLMotorParam(j, dParamVel, 0);
+    dJointSetLMotorParam(j, dParamFMax, max_effort);
+    if (cfm > 0) dJointSetLMotorParam(j, dParamCFM, cfm);
+  }
 }
 
 double ArticulatedJoint::position() const {

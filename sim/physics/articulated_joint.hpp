@@ -17,6 +17,12 @@ dGeomID attach_shape(PhysicsWorld& physics, const ShapeDesc& shape, dBodyID body
 // How far below its origin the shape reaches when its frame is turned by `rotation` (z up).
 double depth_below(const ShapeDesc& shape, const Eigen::Matrix3d& rotation);
 
+// A motor row holding `body`'s rate relative to `other` at zero, about `axis` (`turning`) or along
+// it, with at most `max_effort`: a brake or Coulomb friction. A `cfm` above 0 makes it viscous,
+// damping 1 / cfm, which ODE solves implicitly at the end of the step, so it cannot diverge.
+void zero_rate_row(dWorldID world, dBodyID body, dBodyID other, const Eigen::Vector3d& axis, bool turning,
+                   double max_effort, double cfm);
+
 class ArticulatedJoint {
  public:
   // Builds the link at rest (every joint at zero) for a robot whose chassis frame starts at

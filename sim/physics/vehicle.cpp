@@ -204,22 +204,13 @@ Vehicle::Vehicle(PhysicsWorld& physics, const RobotDesc& desc)
     }
   }
 
-  // A URDF joint's own friction (Coulomb, an angular motor held at zero speed with its torque
-  // capped) and damping (viscous: the same motor with a constraint force mixing of 1 / c, which
-  // ODE solves implicitly, so no damping can make it diverge).
-  const auto hold = [&](std::size_t wheel, double max_torque_nm, double cfm) {
-    dJointID j = dJointCreateAMotor(physics.world(), nullptr);
-    dJointAttach(j, wheels_[wheel].body, chassis_);
-    dJointSetAMotorMode(j, dAMotorUser);
-    dJointSetAMotorNumAxes(j, 1);
-    dJointSetAMotorAxis(j, 0, 1, left.x(), left.y(), left.z());
-    dJointSetAMotorParam(j, dParamVel, 0);
-    dJointSetAMotorParam(j, dParamFMax, max_torque_nm);
-    if (cfm > 0) dJointSetAMotorParam(j, dParamCFM, cfm);
-  };
+  // A URDF wheel joint's own friction (Coulomb) and damping (viscous).
   for (std::size_t i = 0; i < desc.wheels.size(); ++i) {
-    if (desc.wheels[i].joint_friction_nm > 0) hold(i, desc.wheels[i].joint_friction_nm, 0);
-    if (desc.wheels[i].joint_damping_nmps > 0) hold(i, dInfinity, 1.0 / desc.wheels[i].joint_damping_nmps);
+    const WheelDesc& w = desc.wheels[i];
+    if (w.joint_friction_nm > 0)
+      zero_rate_row(physics.world(), wheels_[i].body, chassis_, left, true, w.joint_friction_nm, 0);
+    if (w.joint_damping_nmps > 0)
+      zero_rate_row(physics.world(), wheels_[i].body, chassis_, left, true, dInfinity, 1.0 / w.joint_damping_nmps);
   }
 
   if (desc.drive == DriveKind::Ackermann) {

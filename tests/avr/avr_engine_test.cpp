@@ -48,6 +48,19 @@ std::vector<std::pair<std::int64_t, int>> uart_bytes(const std::string& log, con
   return bytes;
 }
 
+// A UART capture in SEAR's format whose `tx` bytes arrive one every `spacing_ns` from `first_ns`.
+std::string capture_of(const std::string& bytes, std::int64_t first_ns, std::int64_t spacing_ns) {
+  std::string capture = "# SEAR UART capture: bytes for the firmware, 8N1\n";
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    const std::int64_t t = first_ns + static_cast<std::int64_t>(i) * spacing_ns;
+    char line[64];
+    std::snprintf(line, sizeof line, "%lld.%09lld tx %02x\n", static_cast<long long>(t / 1000000000),
+                  static_cast<long long>(t % 1000000000), static_cast<unsigned char>(bytes[i]));
+    capture += line;
+  }
+  return capture;
+}
+
 TEST(AvrEngine, Timer1CompareInterruptTogglesAPinEvery16000Cycles) {
   TempDir dir;
   const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("timer1_toggle.c")), "", 0.03));
@@ -120,14 +133,8 @@ TEST(AvrEngine, AdcFreeRunningInterruptEvery1664CyclesReadsTheRangersVolts) {
 
 TEST(AvrEngine, UsartReceiveInterruptEchoesEachByteOneFrameAfterIt) {
   TempDir dir;
-  std::string capture = "# SEAR UART capture: bytes for the echo, 8N1\n";
   const char* word = "SEAR";
-  for (int i = 0; i < 4; ++i) {
-    char line[64];
-    std::snprintf(line, sizeof line, "0.%09d tx %02x\n", 10000000 + i * 5000000, word[i]);
-    capture += line;
-  }
-  dir.write("bytes.log", capture);
+  dir.write("bytes.log", capture_of(word, 10000000, 5000000));
   const auto run = run_sear(
       dir, rover_project(avr_mcu(test_firmware("usart_echo.c"), "      <uart port=\"0\" receive=\"bytes.log\"/>\n"), "",
                          0.04));
@@ -153,13 +160,7 @@ TEST(AvrEngine, UsartReceiveInterruptEchoesEachByteOneFrameAfterIt) {
 // UDR0 is read (simavr alone would keep all six: its FIFO holds 64).
 TEST(AvrEngine, UsartOverrunKeepsThreeBytesAndSetsDorUntilRead) {
   TempDir dir;
-  std::string capture = "# SEAR UART capture: six bytes back to back, 8N1 at 9600 (1.04 ms a frame)\n";
-  for (int i = 0; i < 6; ++i) {
-    char line[64];
-    std::snprintf(line, sizeof line, "0.%09d tx %02x\n", 1000000 + i * 1040000, 'A' + i);
-    capture += line;
-  }
-  dir.write("bytes.log", capture);
+  dir.write("bytes.log", capture_of("ABCDEF", 1000000, 1040000));  // back to back: 1.04 ms a frame
   const auto run = run_sear(
       dir, rover_project(avr_mcu(test_firmware("usart_overrun.c"), "      <uart port=\"0\" receive=\"bytes.log\"/>\n"),
                          "", 0.03));
@@ -182,13 +183,7 @@ TEST(AvrEngine, UsartOverrunKeepsThreeBytesAndSetsDorUntilRead) {
 // fast stream: every later delay overruns.
 TEST(AvrEngine, UsartReceiveBacklogIsTakenBackToBack) {
   TempDir dir;
-  std::string capture = "# SEAR UART capture: three bytes back to back, 8N1 at 9600 (1.04 ms a frame)\n";
-  for (int i = 0; i < 3; ++i) {
-    char line[64];
-    std::snprintf(line, sizeof line, "0.%09d tx %02x\n", 1000000 + i * 1040000, 'A' + i);
-    capture += line;
-  }
-  dir.write("bytes.log", capture);
+  dir.write("bytes.log", capture_of("ABC", 1000000, 1040000));  // back to back: 1.04 ms a frame
   const auto run = run_sear(
       dir, rover_project(avr_mcu(test_firmware("usart_backlog.c"), "      <uart port=\"0\" receive=\"bytes.log\"/>\n"),
                          "", 0.02));
