@@ -9,6 +9,7 @@
 #include <string>
 
 #include "firmware_run.hpp"
+#include "scoped_env.hpp"
 
 namespace sear::test {
 namespace {
@@ -52,27 +53,6 @@ std::size_t count(const std::string& text, const std::string& what) {
   return n;
 }
 
-// Sets or clears an environment variable (seen by the `sear` a test starts) and puts it back.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const std::string& value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    setenv(name, value.c_str(), 1);
-  }
-  ~ScopedEnv() {
-    if (old_) {
-      setenv(name_, old_->c_str(), 1);
-    } else {
-      unsetenv(name_);
-    }
-  }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
 
 // A folder whose firmware cache is its own, and whose avr-gcc and avr-g++ ($AVR_CC, $AVR_CXX) are
 // the real ones behind scripts that note each compile ("-c") in compiles.log: the evidence of a

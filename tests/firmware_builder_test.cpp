@@ -14,11 +14,14 @@
 #include <thread>
 #include <vector>
 
+#include "scoped_env.hpp"
 #include "sear/firmware_builder.hpp"
 #include "temp_dir.hpp"
 
 namespace sear {
 namespace {
+
+using test::ScopedEnv;
 
 namespace fs = std::filesystem;
 
@@ -345,31 +348,6 @@ TEST_F(FirmwareBuilderTest, ConcurrentBuildsOfTheSameFirmwareAgree) {
   EXPECT_TRUE(leftover_scratch().empty());
 }
 
-// Sets or clears an environment variable for one test and puts it back afterwards.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    if (value) {
-      setenv(name, value, 1);
-    } else {
-      unsetenv(name);
-    }
-  }
-  ~ScopedEnv() {
-    if (old_) {
-      setenv(name_, old_->c_str(), 1);
-    } else {
-      unsetenv(name_);
-    }
-  }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
 
 TEST(DefaultToolchain, FollowsTheEnvironment) {
   {
