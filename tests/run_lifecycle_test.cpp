@@ -28,7 +28,7 @@ using namespace std::chrono_literals;
 class BackgroundRun {
  public:
   BackgroundRun(const TempDir& dir, const std::string& project, const std::vector<std::string>& extra,
-                const std::map<std::string, std::string>& env = {})
+                const std::map<std::string, std::string>& env = {}, bool stops_blocked = false)
       : out_(dir.path() / "out") {
     const auto project_file = dir.path() / "project.xml";
     std::ofstream(project_file) << project;
@@ -38,6 +38,12 @@ class BackgroundRun {
     pid_ = fork();
     if (pid_ == 0) {
       for (const auto& [k, v] : env) setenv(k.c_str(), v.c_str(), 1);
+      if (stops_blocked) {  // as a parent that blocked them passes them on through exec
+        sigset_t stops;
+        sigemptyset(&stops);
+        for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&stops, sig);
+        sigprocmask(SIG_BLOCK, &stops, nullptr);
+      }
       if (!freopen(stdout_path.c_str(), "w", stdout) || !freopen(stderr_path.c_str(), "w", stderr)) _exit(126);
       std::vector<char*> argv;
       for (auto& a : args) argv.push_back(a.data());
@@ -225,6 +231,42 @@ INSTANTIATE_TEST_SUITE_P(EveryState, InterruptedRun,
                                            Ending{"SIGTERM, spinning", LIFE_FORK_PROBE, SIGTERM},
                                            Ending{"SIGHUP, asleep in a host call", LIFE_SLEEP_PROBE, SIGHUP}),
                          case_name<Ending>);
+
+// A harness whose thread blocked SIGTERM passes the block on through fork and exec; a run that
+// kept it would never see the request (a `sear view` so started waited hours for its page).
+TEST(RunLifecycle, AStopSignalTheParentBlockedStillStopsTheRun) {
+  TempDir dir;
+  BackgroundRun run(dir, probe_project(LIFE_SLEEP_PROBE), {"--quiet"}, {}, true);
+  ASSERT_TRUE(run.wait_for_console("ready")) << run.err();
+  kill(run.pid(), SIGTERM);
+  const int status = run.wait_exit(10s);  // as InterruptedRun: a second is plenty, 60 s the hang timeout
+  ASSERT_NE(status, -1) << "sear never saw the SIGTERM its parent had blocked";
+  ASSERT_TRUE(WIFEXITED(status)) << run.err();
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << run.err();
+}
+
+// The same while a viewer waits for its first page, before the clock has moved: the run stops,
+// and its MCU, which never ran, is not reported for pins it "never drove".
+TEST(RunLifecycle, AViewerWaitingForItsPageStopsOnSigtermWithNoWiringVerdicts) {
+  TempDir dir;
+  // A sonar the probe never triggers: a run that went to its end would report its trig pin.
+  const std::string project = rover_project(std::string("    <mcu name=\"main\">\n      <firmware executable=\"") +
+                                                LIFE_SLEEP_PROBE + "\"/>\n      <hcsr04 name=\"sonar\" trig=\"24\" echo=\"2\" "
+                                                "pos=\"0.15 0 0.05\"/>\n    </mcu>\n", "", 100);
+  BackgroundRun run(dir, project, {"--view", "--port", "0", "--view-wait", "60"}, {}, true);
+  bool listening = false;
+  for (int i = 0; i < 1500 && !listening; ++i) {  // up to 30 s for the build and the server
+    listening = run.err().find("viewer on http://") != std::string::npos;
+    std::this_thread::sleep_for(20ms);
+  }
+  ASSERT_TRUE(listening) << run.err();
+  kill(run.pid(), SIGTERM);
+  const int status = run.wait_exit(10s);  // the wait polls for a stop; 60 s is its own end
+  ASSERT_NE(status, -1) << "sear view went on waiting for a page after SIGTERM";
+  ASSERT_TRUE(WIFEXITED(status)) << run.err();
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << run.err();
+  EXPECT_EQ(run.err().find("wiring:"), std::string::npos) << run.err();
+}
 
 // `sear run ... | head -2`: the echo stops with the pipe; the run completes with all its files.
 TEST(RunLifecycle, AClosedStandardOutputStopsTheEchoNotTheRun) {

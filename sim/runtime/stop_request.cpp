@@ -22,7 +22,15 @@ void install_stop_signals() {
   action.sa_handler = on_stop_signal;
   sigemptyset(&action.sa_mask);
   action.sa_flags = 0;  // no SA_RESTART: blocking calls return EINTR and the caller looks
-  for (const int s : {SIGINT, SIGTERM, SIGHUP}) sigaction(s, &action, nullptr);
+  // A blocked signal is inherited across exec: a parent that blocked SIGTERM (a harness's thread,
+  // a Python subprocess) would leave the handler unreachable and the run deaf to every stop.
+  sigset_t stops;
+  sigemptyset(&stops);
+  for (const int s : {SIGINT, SIGTERM, SIGHUP}) {
+    sigaction(s, &action, nullptr);
+    sigaddset(&stops, s);
+  }
+  sigprocmask(SIG_UNBLOCK, &stops, nullptr);
   signal(SIGPIPE, SIG_IGN);
   signal(SIGXFSZ, SIG_IGN);
 }

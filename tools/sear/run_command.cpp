@@ -414,8 +414,10 @@ int run_command(const RunOptions& options) {
     }
 
     RunOutcome outcome;
-    // An MCU that stopped has its report already; what it never reached is no wiring mistake.
-    for (std::size_t i = 0; i < lockstep.mcu_count(); ++i)
+    // An MCU that stopped has its report already; what it never reached is no wiring mistake, and
+    // nor is anything in a run stopped before its clock moved (a `sear view` left waiting for a page).
+    const bool nothing_ran = interrupted && sim.time_ns() == 0;
+    for (std::size_t i = 0; i < lockstep.mcu_count() && !nothing_ran; ++i)
       if (!lockstep.mcu(i).failure())
         for (auto& note : wiring_notes(lockstep.mcu(i))) outcome.wiring.push_back(std::move(note));
     // Once, at the end, where the user looks: a run that completed can still have been useless.
