@@ -236,31 +236,33 @@ static void note_halt(uint64_t cycle) {
   link->halt = engine.avr->sreg[S_I] ? SEAR_HALT_EMPTY_LOOP : SEAR_HALT_EMPTY_LOOP_IRQ_OFF;
 }
 
+/* Runs per instruction: whatever it checks beyond step() is a load and a compare, rarely taken, and
+ * the stack pointer is read once (the one after an instruction is the one before the next). */
 static void run_to(uint64_t cycle) {
   avr_t *avr = engine.avr;
   set_slice_end(cycle);
+  uint16_t sp = stack_pointer();
   while (avr->cycle < slice_end_cycle) {
     const uint32_t pc = avr->pc;
     const uint64_t before = avr->cycle;
-    const uint16_t sp_before = stack_pointer();
+    const uint16_t sp_before = sp;
     const int was = avr->state;
     const int state = step(avr);
-    if (__builtin_expect(avr->pc == pc, 0) && was == cpu_Running && state == cpu_Running &&
-        stack_pointer() == sp_before)
+    sp = stack_pointer();
+    if (__builtin_expect(avr->pc == pc, 0) && was == cpu_Running && state == cpu_Running && sp == sp_before)
       note_halt(before);
     avr_profile_count(pc, avr->cycle - before);
     /* Past the image is erased flash, which the chip would run through to a reset. */
     /* The chip's program counter wraps within its flash; simavr's does not (a backward jump from
      * the start reads as 0xffffffxx), so the report gives the address the chip would be at. */
-    if (avr->pc >= engine.code_end)
+    if (__builtin_expect(avr->pc >= engine.code_end, 0))
       engine_fatal("the ATmega2560 jumped into nowhere: pc 0x%05x is past the program's end at 0x%05x (from pc 0x%05x, "
                    "cycle %" PRIu64 ")",
                    (unsigned)(avr->pc & avr->flashend), engine.code_end, pc, (uint64_t)avr->cycle);
-    if (state != cpu_Running && state != cpu_Sleeping) check_state(state);
-    if (resets != resets_seen) check_resets();
+    if (__builtin_expect(state != cpu_Running && state != cpu_Sleeping, 0)) check_state(state);
+    if (__builtin_expect(resets != resets_seen, 0)) check_resets();
     /* The stack grows down towards .data and .bss: past their end it overwrites globals. */
-    const uint16_t sp = stack_pointer();
-    if (sp < engine.lowest_sp) {
+    if (__builtin_expect(sp < engine.lowest_sp, 0)) {
       engine.lowest_sp = sp;
       if (sp < engine.bss_end)
         engine_fatal("the ATmega2560's stack ran into .bss: SP 0x%04x is below __bss_end 0x%04x (pc 0x%05x, cycle %" PRIu64
