@@ -4,6 +4,7 @@
 
 #include <array>
 
+#include "scene/board_pins.hpp"
 #include "scene/device_kind.hpp"
 
 namespace sear {
@@ -26,6 +27,8 @@ class Notes {
         switch (wire.kind) {
           case WireKind::McuPin:
             wired_[pin] = true;
+            if (wire.use == WireUse::ChipSelect)
+              for (const int bus_pin : kMega2560SpiPins) wired_[static_cast<std::size_t>(bus_pin)] = true;
             mcu_pin(d.name, who, wire, v, i);
             break;
           case WireKind::DevicePin:
@@ -39,10 +42,13 @@ class Notes {
               unused(d.name, v, "{}: its output on ADC channel {} (pin A{}) was never read (adc_read({}))", who, v, v, v);
             break;
           case WireKind::UartPort:
+            wired_[static_cast<std::size_t>(mega2560_uart_rx_pin(v))] = true;
+            wired_[static_cast<std::size_t>(mega2560_uart_tx_pin(v))] = true;
             if (!mcu_.device_on_host(i) && !usage_.uart_begun[pin])
               unused(d.name, v, "{}: it is on uart{}, which the firmware never began (uart_begin({}, baud))", who, v, v);
             break;
           case WireKind::I2cAddress:
+            for (const int bus_pin : kMega2560I2cPins) wired_[static_cast<std::size_t>(bus_pin)] = true;
             if (kept_ && !addressed(i))
               unused(d.name, v, "{}: at I2C address {} (0x{:02X}) it was never addressed", who, v, v);
             break;

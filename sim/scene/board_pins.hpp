@@ -14,4 +14,18 @@ inline bool mega2560_has_pwm(int pin) { return (pin >= 2 && pin <= 13) || (pin >
 // The PWM pins as a person reads them in a message.
 inline const char* mega2560_pwm_pins() { return "2..13 and 44..46"; }
 
+// The pins of the chip's own buses (datasheet table 1-1, the board's silkscreen): a device on a
+// bus is wired to them, and firmware that drives them (an AVR image setting up its SPI or USART)
+// drives that device, not a pin nobody is wired to.
+inline int mega2560_uart_rx_pin(int port) {
+  static const int pins[4] = {0, 19, 17, 15};
+  return pins[port];
+}
+inline int mega2560_uart_tx_pin(int port) {
+  static const int pins[4] = {1, 18, 16, 14};
+  return pins[port];
+}
+constexpr int kMega2560SpiPins[] = {50, 51, 52, 53};  // MISO, MOSI, SCK, SS
+constexpr int kMega2560I2cPins[] = {20, 21};          // SDA, SCL
+
 }  // namespace sear

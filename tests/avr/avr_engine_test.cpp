@@ -515,6 +515,10 @@ TEST(AvrEngine, TheReferenceRoversAvrBuildMeetsItsScenario) {
   const std::string log = read_file(dir.path() / "log");
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << log;
   EXPECT_NE(log.find("PASS  rover_avr.xml seed 1: 11 expectations met"), std::string::npos) << log;
+  // Its image sets up the SPI bus (MOSI 51, SCK 52 made outputs) for the IMU wired by its chip
+  // select: those pins drive a device, so no note calls them wired to nothing.
+  const auto summary = nlohmann::json::parse(read_file(dir.path() / "out" / "rover_avr.xml" / "seed-1" / "summary.json"));
+  EXPECT_TRUE(summary["wiring"].empty()) << summary["wiring"].dump(2);
 }
 
 // `sear run --cross-check`: the avoider's first 3 s on both engines say and send the same and end

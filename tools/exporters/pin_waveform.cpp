@@ -6,6 +6,8 @@
 #include <charconv>
 #include <cstring>
 
+#include "scene/board_pins.hpp"
+
 namespace sear {
 namespace {
 
@@ -26,22 +28,16 @@ constexpr int kUartBits = 8;    // 8N1
 
 }  // namespace
 
-bool PinWaveform::has_pwm(int pin) { return (pin >= 2 && pin <= 13) || (pin >= 44 && pin <= 46); }
+bool PinWaveform::has_pwm(int pin) { return mega2560_has_pwm(pin); }
 
 bool PinWaveform::has_servo(int pin) {
   return pin == 2 || pin == 3 || pin == 5 || pin == 6 || pin == 7 || pin == 8 || pin == 11 || pin == 12 ||
          (pin >= 44 && pin <= 46);
 }
 
-int PinWaveform::uart_tx_pin(int port) {
-  static const int pins[kPorts] = {1, 18, 16, 14};
-  return pins[port];
-}
+int PinWaveform::uart_tx_pin(int port) { return mega2560_uart_tx_pin(port); }
 
-int PinWaveform::uart_rx_pin(int port) {
-  static const int pins[kPorts] = {0, 19, 17, 15};
-  return pins[port];
-}
+int PinWaveform::uart_rx_pin(int port) { return mega2560_uart_rx_pin(port); }
 
 PinWaveform::PinWaveform(BoundedFile& pins, BoundedFile& values, const std::string& mcu_id, bool uart_bytes,
                          const std::vector<std::string>& labels)
