@@ -242,6 +242,7 @@ static void run_to(uint64_t cycle) {
   avr_t *avr = engine.avr;
   set_slice_end(cycle);
   uint16_t sp = stack_pointer();
+  static uint8_t irq_on; /* the I flag after the last instruction: reset clears it */
   while (avr->cycle < slice_end_cycle) {
     const uint32_t pc = avr->pc;
     const uint64_t before = avr->cycle;
@@ -252,6 +253,10 @@ static void run_to(uint64_t cycle) {
     if (__builtin_expect(avr->pc == pc, 0) && was == cpu_Running && state == cpu_Running && sp == sp_before)
       note_halt(before);
     avr_profile_count(pc, avr->cycle - before);
+    if (__builtin_expect(avr->sreg[S_I] != irq_on, 0)) {
+      irq_on = avr->sreg[S_I];
+      avr_profile_interrupts_flag(irq_on, avr->pc, avr->cycle);
+    }
     /* Past the image is erased flash, which the chip would run through to a reset. */
     /* The chip's program counter wraps within its flash; simavr's does not (a backward jump from
      * the start reads as 0xffffffxx), so the report gives the address the chip would be at. */

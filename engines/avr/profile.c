@@ -36,6 +36,60 @@ struct symbol {
 static struct symbol *symbols;
 static uint32_t symbol_count;
 
+/* The longest stretch with interrupts held off (an ISR's whole run, or code between CLI and SEI):
+ * what bounds every interrupt's latency, so it names the code to look at when bytes overrun. */
+static struct {
+  int off;
+  uint64_t since;
+  uint32_t pc;
+  uint64_t longest, longest_at;
+  uint32_t longest_pc;
+} irq_off;
+
+/* The ATmega2560's vector table: 57 vectors of one 2-word JMP each from address 0 (datasheet
+ * table 14-1); the chip enters an interrupt there. */
+enum { VECTOR_BYTES = 4, VECTORS = 57 };
+
+void avr_profile_interrupts_flag(int on, uint32_t pc, uint64_t cycle) {
+  /* From a reset to the first SEI no interrupt is enabled yet that could wait: not counted. */
+  if (!on && pc == 0) {
+    irq_off.off = 0;
+    return;
+  }
+  if (!on && !irq_off.off) {
+    irq_off.off = 1;
+    irq_off.since = cycle;
+    irq_off.pc = pc;
+  } else if (on && irq_off.off) {
+    irq_off.off = 0;
+    if (cycle - irq_off.since > irq_off.longest) {
+      irq_off.longest = cycle - irq_off.since;
+      irq_off.longest_at = irq_off.since;
+      irq_off.longest_pc = irq_off.pc;
+    }
+  }
+}
+
+/* "__vector_N" for a vector slot, else the function holding pc and the offset into it. */
+static void code_name(uint32_t pc, char *out, size_t size) {
+  if (pc < VECTOR_BYTES * VECTORS) {
+    snprintf(out, size, "__vector_%u", (unsigned)(pc / VECTOR_BYTES));
+    return;
+  }
+  const struct symbol *at = NULL;
+  for (uint32_t lo = 0, hi = symbol_count; lo < hi;) { /* the last symbol at or below pc */
+    const uint32_t mid = lo + (hi - lo) / 2;
+    if (symbols[mid].addr <= pc) {
+      at = &symbols[mid];
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  if (at) snprintf(out, size, "%s+0x%x", at->name, (unsigned)(pc - at->addr));
+  else snprintf(out, size, "0x%05x", (unsigned)pc);
+}
+
 static void on_pending(struct avr_irq_t *irq, uint32_t value, void *param) {
   (void)irq;
   struct vector_stats *v = &vectors[(uintptr_t)param];
@@ -155,9 +209,22 @@ void avr_profile_write(void) {
   for (int i = 0; i < tops; ++i)
     OUT("%s\n    {\"name\": \"%s\", \"cycles\": %" PRIu64 ", \"share\": %.6f}", i ? "," : "", top[i].name, top[i].cycles,
         busy ? (double)top[i].cycles / (double)busy : 0.0);
-  OUT("%s],\n  \"usart_overruns\": [%u, %u, %u, %u],\n  \"stack\": {\"ram_end\": %u, \"bss_end\": %u, \"lowest_sp\": %u, \"worst_depth_bytes\": %u, "
+  /* A stretch still open counts as far as it has gone. */
+  uint64_t longest = irq_off.longest, longest_at = irq_off.longest_at;
+  uint32_t longest_pc = irq_off.longest_pc;
+  if (irq_off.off && cycles - irq_off.since > longest) {
+    longest = cycles - irq_off.since;
+    longest_at = irq_off.since;
+    longest_pc = irq_off.pc;
+  }
+  char where[160] = "";
+  if (longest) code_name(longest_pc, where, sizeof where);
+  OUT("%s],\n  \"interrupts_off\": {\"longest_cycles\": %" PRIu64 ", \"longest_us\": %.3f, \"from\": \"%s\", "
+      "\"at_cycle\": %" PRIu64 "}",
+      tops ? "\n  " : "", longest, (double)longest * 1e6 / (double)engine.clock_hz, where, longest_at);
+  OUT(",\n  \"usart_overruns\": [%u, %u, %u, %u],\n  \"stack\": {\"ram_end\": %u, \"bss_end\": %u, \"lowest_sp\": %u, \"worst_depth_bytes\": %u, "
       "\"free_ram_bytes\": %d}\n}\n",
-      tops ? "\n  " : "", avr_usart_overruns(0), avr_usart_overruns(1), avr_usart_overruns(2), avr_usart_overruns(3),
+      avr_usart_overruns(0), avr_usart_overruns(1), avr_usart_overruns(2), avr_usart_overruns(3),
       (unsigned)avr->ramend, engine.bss_end, engine.lowest_sp,
       (unsigned)(avr->ramend - engine.lowest_sp), (int)engine.lowest_sp - (int)engine.bss_end);
 #undef OUT

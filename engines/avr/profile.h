@@ -16,6 +16,9 @@ void avr_profile_init(const char *path, const struct elf_firmware_t *firmware);
 static inline void avr_profile_count(uint32_t pc, uint64_t cycles);
 /* The chip slept this many cycles. */
 void avr_profile_sleep(uint64_t cycles);
+/* The I flag changed: `on` is its new value, `pc` where the chip goes on from (after a CLI, the
+ * next instruction; on an interrupt's entry, its vector), `cycle` the cycle it took effect. */
+void avr_profile_interrupts_flag(int on, uint32_t pc, uint64_t cycle);
 /* The cycles so far that the chip was not asleep. */
 uint64_t avr_profile_busy_cycles(void);
 /* Rewrites the report (cheap enough to call every few quanta; the simulator kills the engine

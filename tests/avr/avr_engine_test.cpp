@@ -88,6 +88,13 @@ TEST(AvrEngine, Timer1CompareInterruptTogglesAPinEvery16000Cycles) {
   // Pending to running: at most the idle loop's RJMP (2 cycles); simavr enters in 0 cycles.
   EXPECT_LE(report["isrs"][0]["latency_cycles"]["max"].get<int>(), 2);
   EXPECT_EQ(report["top_functions"][0]["name"], "main");
+  // Interrupts are held off only while the ISR runs (the chip clears I on entry, RETI sets it):
+  // the longest stretch is one run of it, from its vector. The ISR takes the same path each time,
+  // so each run is its mean; the vector's cycles end as RETI begins (simavr's running flag), the
+  // I flag is set once RETI has run, 5 cycles on a part with a 3-byte PC (instruction set manual).
+  const double isr_run = report["isrs"][0]["cycles"].get<double>() / report["isrs"][0]["entries"].get<double>();
+  EXPECT_EQ(report["interrupts_off"]["from"], "__vector_17") << report.dump();
+  EXPECT_DOUBLE_EQ(report["interrupts_off"]["longest_cycles"].get<double>(), isr_run + 5) << report.dump();
   // The ISR's frame: a return address (3 bytes on this 3-byte-PC part) and a few saved registers.
   EXPECT_GE(report["stack"]["worst_depth_bytes"].get<int>(), 3);
   EXPECT_LE(report["stack"]["worst_depth_bytes"].get<int>(), 32);
