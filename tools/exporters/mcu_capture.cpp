@@ -145,7 +145,7 @@ void McuCapture::release(State& s, std::int64_t until_ns) {
 // times before the stop bit ends, then carries the data bits from the least significant, then
 // the stop bit (high); each bit's edge rounded to the nanosecond as the HAL rounds the byte's end.
 void McuCapture::queue_wave(State& s, const sear_event& e) {
-  s.wave_pending.push_back(e);
+  s.wave_pending.push({e, s.wave_seq++});
   if (e.index >= SEAR_LINK_UARTS) return;
   if (e.kind == SEAR_EVENT_UART_BEGIN) s.wave_baud[e.index] = e.value;
   if ((e.kind != SEAR_EVENT_UART_TX && e.kind != SEAR_EVENT_UART_RX) || !s.wave_baud[e.index]) return;
@@ -157,20 +157,21 @@ void McuCapture::queue_wave(State& s, const sear_event& e) {
     if (level == shown) continue;
     shown = level;
     const std::int64_t before_end = ((10 - bit) * std::int64_t{1000000000} + baud / 2) / baud;
-    s.wave_pending.push_back({e.time_ns - before_end, static_cast<std::uint32_t>(level), PinWaveform::kLineLevel,
-                              static_cast<std::uint8_t>(pin), {0, 0}});
+    s.wave_pending.push({{e.time_ns - before_end, static_cast<std::uint32_t>(level), PinWaveform::kLineLevel,
+                          static_cast<std::uint8_t>(pin), {0, 0}},
+                         s.wave_seq++});
   }
 }
 
 // Writes the queued changes due by until_ns, in time order (stably: the order of equal times is
 // the order they came in); at once, as the waveform looks ahead among them.
 void McuCapture::write_wave(State& s, std::int64_t until_ns) {
-  std::stable_sort(s.wave_pending.begin(), s.wave_pending.end(),
-                   [](const sear_event& a, const sear_event& b) { return a.time_ns < b.time_ns; });
-  std::size_t n = 0;
-  while (n < s.wave_pending.size() && s.wave_pending[n].time_ns <= until_ns) ++n;
-  s.waveform->write(s.wave_pending.data(), n);
-  s.wave_pending.erase(s.wave_pending.begin(), s.wave_pending.begin() + static_cast<std::ptrdiff_t>(n));
+  s.wave_due.clear();
+  while (!s.wave_pending.empty() && s.wave_pending.top().e.time_ns <= until_ns) {
+    s.wave_due.push_back(s.wave_pending.top().e);
+    s.wave_pending.pop();
+  }
+  s.waveform->write(s.wave_due.data(), s.wave_due.size());
 }
 
 void McuCapture::keep_unsent(State& s, const sear_event& e) {
