@@ -151,5 +151,53 @@ TEST(ServoPin, PulsesMadeWithDigitalWriteAndDelaysTurnTheServo) {
   expect_off_50ms_after_the_last_pulse(trace, pulses);
 }
 
+// The AVR target's timer5 interrupt (hal/targets/avr/soft_servo.c) raises and lowers the pin with
+// its first two stores, 11 cycles apart (avr-gcc -Os), so a pulse is its counts of 0.5 us less
+// those 11 cycles. The compare's entry can be held up at either edge by what holds interrupts
+// off: in this firmware, at worst timer0's overflow handler for millis (101 cycles from its
+// vector to its reti, avr-objdump of time.c) and the one instruction run after a reti (up to 5
+// cycles), with the 4 extra cycles of the longest instruction the compare may land in: 110
+// cycles, 6.9 us, either way.
+constexpr double kStoresApartNs = 11 * kCycleNs;
+constexpr double kLatencyNs = 110 * kCycleNs;
+
+TEST(ServoPin, ServoWriteUsOnAPinWithoutATimerPulsesItFromTimer5OnTheAvrTarget) {
+  TempDir dir;
+  const SearRun run = run_sear(dir, rig_project(dir, "avr", firmware("servo_any_pin.c")));
+  ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
+  const Trace trace(run.file("trace_rig.csv"));
+  const std::vector<Pulse> pulses = pulses_of(run);
+  // 20 ms frames from just after hal_init for 2 s: 100 pulses, the first 50 of 1500 us.
+  ASSERT_EQ(pulses.size(), 100u);
+  std::vector<std::int64_t> widths, frames;
+  for (std::size_t k = 0; k < pulses.size(); ++k) {
+    const double asked_ns = (k < 50 ? 1500 : 2000) * 1000.0;
+    const auto width = pulses[k].fall_ns - pulses[k].rise_ns;
+    EXPECT_NEAR(static_cast<double>(width), asked_ns - kStoresApartNs, kLatencyNs) << "pulse " << k;
+    widths.push_back(static_cast<std::int64_t>(std::llround(static_cast<double>(width) - asked_ns)));
+    if (k > 0) {
+      const auto frame = pulses[k].rise_ns - pulses[k - 1].rise_ns;
+      EXPECT_NEAR(static_cast<double>(frame), 20e6, kLatencyNs) << "frame before pulse " << k;
+      frames.push_back(frame);
+    }
+  }
+  // Most edges meet no other interrupt: then a width is exact to the VCD's 1 ns rounding of
+  // the 62.5 ns cycles, and so is the 40000-count frame.
+  std::nth_element(widths.begin(), widths.begin() + 50, widths.end());
+  EXPECT_NEAR(static_cast<double>(widths[50]), -kStoresApartNs, 1.0);
+  std::nth_element(frames.begin(), frames.begin() + 49, frames.end());
+  EXPECT_NEAR(static_cast<double>(frames[49]), 20e6, 1.0);
+  expect_trace_follows_the_wire(trace, pulses);
+  // The head at the widths' angles, the solver's 2e-4 rad as on the native engine and up to the
+  // latency's worth (1.12 mrad a microsecond) for the last pulses' jitter.
+  const double jitter_rad = angle_of(kCentreUs + kLatencyNs * 1e-3) - angle_of(kCentreUs);
+  EXPECT_NEAR(trace.at(1000000, "joint_pan_joint_pos"), angle_of(1500 - kStoresApartNs * 1e-3), 2e-4 + jitter_rad);
+  EXPECT_NEAR(trace.at(2000000, "joint_pan_joint_pos"), angle_of(2000 - kStoresApartNs * 1e-3), 2e-4 + jitter_rad);
+  // servo_write_us(30, 0) at 2 s stops the pulses; the servo lets go 50 ms after the last.
+  EXPECT_LT(pulses.back().rise_ns, 2000 * kMs);
+  expect_off_50ms_after_the_last_pulse(trace, pulses);
+  EXPECT_EQ(run.out.find("servo 'pan'"), std::string::npos) << run.out;  // the wiring report has it driven
+}
+
 }  // namespace
 }  // namespace sear::test

@@ -1,20 +1,23 @@
-/* analogWrite-style PWM on the timer pins and 50 Hz servo pulses on the 16-bit timer pins,
- * sharing each timer between the two. */
+/* analogWrite-style PWM on the timer pins and 50 Hz servo pulses: from the hardware on the pins of
+ * timers 1, 3 and 4, sharing each timer between the two, and from timer5's interrupt on any
+ * other pin (soft_servo.c). */
 #include <hal/pwm.h>
 
 #include <hal/gpio.h>
 
 #include "pin_map.h"
+#include "soft_servo.h"
 #include "timers.h"
 
 #include <avr/io.h>
 #include <stddef.h>
 #include <util/atomic.h>
 
-/* A servo pin switches its whole timer to the 50 Hz frame; PWM on that timer's other pins then
- * runs at 50 Hz too, with its duty kept. Timer5 (pins 44..46) yields to irq_timer_start: while
- * the periodic interrupt runs, those pins are plain outputs (pwm_write gives LOW below 128 and
- * HIGH from 128; servo_write_us does nothing). */
+/* A servo pin of timers 1, 3 or 4 switches its whole timer to the 50 Hz frame; PWM on that
+ * timer's other pins then runs at 50 Hz too, with its duty kept. The hardware makes those pulses
+ * exactly, with no interrupt. Timer5 (pins 44..46) is the shared one: it makes the pulses of
+ * every other servo pin, 44..46 included, or runs irq_timer_start; while it does either, PWM on
+ * 44..46 is a plain output (pwm_write gives LOW below 128 and HIGH from 128). */
 
 /* A 16-bit timer is in the servo frame when WGMn3 is set: the PWM default (mode 1) and the
  * periodic interrupt's CTC (mode 4) both leave it clear. */
@@ -23,10 +26,11 @@ static uint8_t in_servo_frame(volatile timer16_regs *t)
     return (t->tccrb & _BV(WGM13)) != 0;
 }
 
-/* irq_timer_start owns timer5 while its compare interrupt is enabled. */
-static uint8_t taken_by_irq_timer(uint8_t timer)
+/* irq_timer_start (compare A) or the software servos (compare B) own timer5 while their
+ * interrupt is enabled. */
+static uint8_t timer5_taken(uint8_t timer)
 {
-    return timer == 5 && (TIMSK5 & _BV(OCIE5A));
+    return timer == 5 && (TIMSK5 & (_BV(OCIE5A) | _BV(OCIE5B)));
 }
 
 /* duty/255 of the 40000-count frame, as the high time of OCRn + 1 counts in fast PWM. */
@@ -61,7 +65,7 @@ void pwm_write(uint8_t pin, uint8_t duty)
     make_output(pin);
     /* The ends are plain levels: fast PWM (timer0) would still leave a one-count spike at 0,
      * and a taken timer5 has no PWM to give. */
-    if (duty == 0 || duty == 255 || taken_by_irq_timer(timer)) {
+    if (duty == 0 || duty == 255 || timer5_taken(timer)) {
         digital_write(pin, duty >= 128 ? HIGH : LOW);
         return;
     }
@@ -94,13 +98,13 @@ static void enter_servo_frame(volatile timer16_regs *t)
 void servo_write_us(uint8_t pin, uint16_t pulse_us)
 {
     uint8_t code = hal_avr_pin_timer(pin);
-    if (code == PIN_NO_TIMER)
-        return;
     uint8_t timer = PIN_TIMER_NUMBER(code);
     uint8_t channel = PIN_TIMER_CHANNEL(code);
-    volatile timer16_regs *t = hal_avr_timer16(timer);
-    if (t == NULL || taken_by_irq_timer(timer))
+    volatile timer16_regs *t = code == PIN_NO_TIMER ? NULL : hal_avr_timer16(timer);
+    if (t == NULL || timer == 5) {
+        hal_avr_soft_servo_write(pin, pulse_us);
         return;
+    }
     make_output(pin);
     if (pulse_us == 0) {
         digital_write(pin, LOW);
