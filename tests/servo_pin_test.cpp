@@ -12,6 +12,7 @@
 
 #include "firmware_run.hpp"
 #include "model_run.hpp"
+#include "runtime/servo_wire.hpp"
 
 namespace sear::test {
 namespace {
@@ -197,6 +198,49 @@ TEST(ServoPin, ServoWriteUsOnAPinWithoutATimerPulsesItFromTimer5OnTheAvrTarget) 
   EXPECT_LT(pulses.back().rise_ns, 2000 * kMs);
   expect_off_50ms_after_the_last_pulse(trace, pulses);
   EXPECT_EQ(run.out.find("servo 'pan'"), std::string::npos) << run.out;  // the wiring report has it driven
+}
+
+// The decoder's bounds, each met exactly and missed by a nanosecond.
+TEST(ServoWire, TakesHighsOf400To2600UsAtLeast3MsApartAndLetsGo50MsAfterTheLast) {
+  ServoWires wires({kPin});
+  const auto pulse = [&](std::int64_t rise_ns, std::int64_t width_ns) {
+    wires.level(kPin, true, rise_ns);
+    return wires.level(kPin, false, rise_ns + width_ns);
+  };
+  EXPECT_EQ(wires.pulse_us(kPin, 0), 0);
+  EXPECT_FALSE(pulse(0, 399'999));                      // too short: no servo takes it
+  EXPECT_EQ(wires.pulse_us(kPin, kMs), 0);
+  EXPECT_TRUE(pulse(3 * kMs, 400'000));                 // 3 ms after the last rise: a frame
+  EXPECT_EQ(wires.pulse_us(kPin, 4 * kMs), 400);
+  EXPECT_FALSE(pulse(6 * kMs - 1, 1'000'000));          // a frame a nanosecond under 3 ms: PWM
+  EXPECT_EQ(wires.pulse_us(kPin, 8 * kMs), 400);        // and the servo keeps the last pulse
+  EXPECT_FALSE(pulse(10 * kMs, 2'600'001));             // too long: a level
+  EXPECT_TRUE(pulse(20 * kMs, 2'600'000));
+  EXPECT_EQ(wires.pulse_us(kPin, 70 * kMs), 2600);      // 50 ms after its rise it still holds
+  EXPECT_EQ(wires.pulse_us(kPin, 70 * kMs + 1), 0);     // and then lets go
+  // A width announced without edges (servo_write_us, a PWM timer) holds until the next pulse
+  // read on the wire, and does not lapse; the later of the two wins.
+  wires.announced(kPin, 1500);
+  EXPECT_EQ(wires.pulse_us(kPin, 10'000 * kMs), 1500);
+  EXPECT_TRUE(pulse(10'000 * kMs, 1'200'000));
+  EXPECT_EQ(wires.pulse_us(kPin, 10'001 * kMs), 1200);
+  wires.announced(kPin, 0);
+  EXPECT_EQ(wires.pulse_us(kPin, 10'002 * kMs), 0);
+  // A pin no servo is wired to is not read.
+  EXPECT_FALSE(wires.level(kPin + 1, true, 0) || wires.level(kPin + 1, false, kMs));
+  EXPECT_EQ(wires.pulse_us(kPin + 1, kMs), 0);
+}
+
+TEST(ServoPin, APinHeldHighIsNoServoPulsesAndTheWiringReportSaysSo) {
+  TempDir dir;
+  const SearRun run = run_sear(dir, rig_project(dir, "native", firmware("servo_held_high.c"), 0.2));
+  ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
+  const Trace trace(run.file("trace_rig.csv"));
+  for (long long t : rows_between(trace, 0.001, 0.2)) ASSERT_EQ(trace.at(t, "servo_pan_pulse_us"), 0) << t;
+  EXPECT_NE(run.out.find("servo 'pan': its pin 30 never got servo pulses: the firmware drove it HIGH, but never for "
+                         "400..2600 us at a time, 3 ms or more apart"),
+            std::string::npos)
+      << run.out;
 }
 
 }  // namespace
