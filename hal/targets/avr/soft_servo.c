@@ -95,11 +95,6 @@ ISR(TIMER5_COMPB_vect)
     prepare_rise(first_active(0));
 }
 
-uint8_t hal_avr_soft_servos_running(void)
-{
-    return (TIMSK5 & _BV(OCIE5B)) != 0;
-}
-
 static uint8_t slot_of(uint8_t pin)
 {
     for (uint8_t i = 0; i < slot_count; i++) {

@@ -3,6 +3,7 @@
 #ifndef SEAR_HAL_AVR_SOFT_SERVO_H
 #define SEAR_HAL_AVR_SOFT_SERVO_H
 
+#include <avr/io.h>
 #include <stdint.h>
 
 /* Up to this many pins at once, each pulsed in turn in one frame (the library's 12 a timer). */
@@ -16,7 +17,11 @@
  * irq_timer_start holds timer5, or for a pin beyond the 12th. */
 void hal_avr_soft_servo_write(uint8_t pin, uint16_t pulse_us);
 
-/* Timer5 makes software servo pulses (its compare B interrupt is on). */
-uint8_t hal_avr_soft_servos_running(void);
+/* Timer5 makes software servo pulses (its compare B interrupt is on). Inline, so that asking
+ * (irq_timer.c) does not link the pulses' interrupt into a firmware that makes none. */
+static inline uint8_t hal_avr_soft_servos_running(void)
+{
+    return (TIMSK5 & _BV(OCIE5B)) != 0;
+}
 
 #endif
