@@ -30,7 +30,7 @@ std::string firmware(const char* name) { return std::string(SERVO_TEST_FIRMWARE)
 // degrees, so that neither 1500 nor 2000 us and what a call adds meets an end) whose pulses come
 // from pin 30 of the MCU.
 std::string rig_project(const TempDir& dir, const std::string& engine, const std::string& sources,
-                        double duration_s = 2.2) {
+                        double duration_s = 2.2, const std::string& defines = "") {
   const auto wheel = [](const char* name, double y) {
     return std::string("  <link name=\"") + name +
            "_wheel\"><collision><origin rpy=\"1.5707963267948966 0 0\"/><geometry><cylinder radius=\"0.045\" "
@@ -69,7 +69,7 @@ std::string rig_project(const TempDir& dir, const std::string& engine, const std
          "    <wheel name=\"left\" joint=\"left_wheel_joint\"/>\n    <wheel name=\"right\" joint=\"right_wheel_joint\"/>\n"
          "    <caster link=\"front_caster\"/>\n    <caster link=\"rear_caster\"/>\n"
          "    <servo name=\"pan\" joint=\"pan_joint\" range_deg=\"90\" min_pulse_us=\"800\" max_pulse_us=\"2200\" speed_s_per_60deg=\"0.2\" torque=\"0.5\"/>\n"
-         "    <mcu name=\"main\" engine=\"" + engine + "\">\n      <firmware sources=\"" + sources + "\"/>\n"
+         "    <mcu name=\"main\" engine=\"" + engine + "\">\n      <firmware sources=\"" + sources + "\" defines=\"" + defines + "\"/>\n"
          "      <servo name=\"pan\" pin=\"30\"/>\n    </mcu>\n  </robot>\n</project>\n";
 }
 
@@ -241,6 +241,26 @@ TEST(ServoPin, APinHeldHighIsNoServoPulsesAndTheWiringReportSaysSo) {
                          "400..2600 us at a time, 3 ms or more apart"),
             std::string::npos)
       << run.out;
+}
+
+// Timer5 makes either the software servo pulses or irq_timer_start's interrupt: whichever comes
+// second stops the chip, and the reason is on its console.
+TEST(ServoPin, TimerFiveAskedForTwiceStopsTheChipWithTheReasonOnItsConsole) {
+  for (const char* defines : {"", "SERVO_FIRST"}) {
+    SCOPED_TRACE(defines);
+    TempDir dir;
+    const SearRun run = run_sear(dir, rig_project(dir, "avr", firmware("servo_timer5_clash.c"), 0.1, defines));
+    ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
+    const std::string console = run.file("rig.main.console.log");
+    EXPECT_NE(console.find("start"), std::string::npos) << console;
+    EXPECT_EQ(console.find("not reached"), std::string::npos) << console;
+    EXPECT_NE(console.find(*defines ? "irq_timer_start: timer5 makes the servo pulses of the pins without a 16-bit PWM timer"
+                                    : "servo_write_us on a pin without a 16-bit PWM timer: timer5 makes those pulses, and "
+                                      "irq_timer_start holds it"),
+              std::string::npos)
+        << console;
+    EXPECT_NE(run.out.find("halted at sim time 0.01"), std::string::npos) << run.out;  // after the 10 ms delay
+  }
 }
 
 }  // namespace
