@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -31,46 +33,57 @@ std::string firmware(const char* name) { return std::string(SERVO_TEST_FIRMWARE)
 // from pin 30 of the MCU.
 std::string rig_project(const TempDir& dir, const std::string& engine, const std::string& sources,
                         double duration_s = 2.2, const std::string& defines = "") {
-  const auto wheel = [](const char* name, double y) {
-    return std::string("  <link name=\"") + name +
-           "_wheel\"><collision><origin rpy=\"1.5707963267948966 0 0\"/><geometry><cylinder radius=\"0.045\" "
-           "length=\"0.025\"/></geometry></collision>\n    <inertial><mass value=\"0.06\"/><inertia ixx=\"3.35e-5\" "
-           "ixy=\"0\" ixz=\"0\" iyy=\"6.075e-5\" iyz=\"0\" izz=\"3.35e-5\"/></inertial></link>\n  <joint name=\"" +
-           name + "_wheel_joint\" type=\"continuous\"><parent link=\"base_link\"/><child link=\"" + name +
-           "_wheel\"/><origin xyz=\"0 " + std::to_string(y) + " 0\"/><axis xyz=\"0 1 0\"/></joint>\n";
-  };
-  const auto caster = [](const char* name, double x) {
-    return std::string("  <link name=\"") + name +
-           "\"><collision><geometry><sphere radius=\"0.0225\"/></geometry></collision>\n    <inertial><mass "
-           "value=\"0.02\"/><inertia ixx=\"4e-6\" ixy=\"0\" ixz=\"0\" iyy=\"4e-6\" iyz=\"0\" izz=\"4e-6\"/></inertial></link>\n"
-           "  <joint name=\"" + name + "_joint\" type=\"fixed\"><parent link=\"base_link\"/><child link=\"" + name +
-           "\"/><origin xyz=\"" + std::to_string(x) + " 0 -0.0225\"/></joint>\n";
-  };
-  const std::string urdf = std::string(R"(<robot name="rig">
+  const auto path = dir.path() / "rig.urdf";
+  std::ofstream(path) << R"(<robot name="rig">
   <link name="base_link">
     <collision><geometry><box size="0.3 0.2 0.05"/></geometry></collision>
     <inertial><mass value="20"/><inertia ixx="0.0708" ixy="0" ixz="0" iyy="0.1542" iyz="0" izz="0.2167"/></inertial>
   </link>
-)") + wheel("left", 0.12) + wheel("right", -0.12) + caster("front_caster", 0.12) + caster("rear_caster", -0.12) + R"(
+  <link name="left_wheel">
+    <collision><origin rpy="1.5707963 0 0"/><geometry><cylinder radius="0.045" length="0.025"/></geometry></collision>
+    <inertial><mass value="0.06"/><inertia ixx="3.35e-5" ixy="0" ixz="0" iyy="6.075e-5" iyz="0" izz="3.35e-5"/></inertial>
+  </link>
+  <joint name="left_wheel_joint" type="continuous"><parent link="base_link"/><child link="left_wheel"/>
+    <origin xyz="0 0.12 0"/><axis xyz="0 1 0"/></joint>
+  <link name="right_wheel">
+    <collision><origin rpy="1.5707963 0 0"/><geometry><cylinder radius="0.045" length="0.025"/></geometry></collision>
+    <inertial><mass value="0.06"/><inertia ixx="3.35e-5" ixy="0" ixz="0" iyy="6.075e-5" iyz="0" izz="3.35e-5"/></inertial>
+  </link>
+  <joint name="right_wheel_joint" type="continuous"><parent link="base_link"/><child link="right_wheel"/>
+    <origin xyz="0 -0.12 0"/><axis xyz="0 1 0"/></joint>
+  <link name="front_caster"><collision><geometry><sphere radius="0.0225"/></geometry></collision>
+    <inertial><mass value="0.02"/><inertia ixx="4e-6" ixy="0" ixz="0" iyy="4e-6" iyz="0" izz="4e-6"/></inertial></link>
+  <joint name="front_caster_joint" type="fixed"><parent link="base_link"/><child link="front_caster"/>
+    <origin xyz="0.12 0 -0.0225"/></joint>
+  <link name="rear_caster"><collision><geometry><sphere radius="0.0225"/></geometry></collision>
+    <inertial><mass value="0.02"/><inertia ixx="4e-6" ixy="0" ixz="0" iyy="4e-6" iyz="0" izz="4e-6"/></inertial></link>
+  <joint name="rear_caster_joint" type="fixed"><parent link="base_link"/><child link="rear_caster"/>
+    <origin xyz="-0.12 0 -0.0225"/></joint>
   <link name="head">
     <collision><origin xyz="0 0 0.015"/><geometry><box size="0.04 0.1 0.03"/></geometry></collision>
-    <inertial><origin xyz="0 0 0.015"/><mass value="0.1"/><inertia ixx="9.08e-5" ixy="0" ixz="0" iyy="2.08e-5" iyz="0" izz="9.67e-5"/></inertial>
+    <inertial><origin xyz="0 0 0.015"/><mass value="0.1"/>
+      <inertia ixx="9.08e-5" ixy="0" ixz="0" iyy="2.08e-5" iyz="0" izz="9.67e-5"/></inertial>
   </link>
   <joint name="pan_joint" type="revolute"><parent link="base_link"/><child link="head"/>
     <origin xyz="0 0 0.025"/><axis xyz="0 0 1"/><limit lower="-1.2" upper="1.2" effort="2" velocity="10"/></joint>
 </robot>
 )";
-  const auto path = dir.path() / "rig.urdf";
-  std::ofstream(path) << urdf;
-  return "<project name=\"servo_pin\">\n  <run duration=\"" + std::to_string(duration_s) +
-         "\" seed=\"1\" trace_rate=\"1000\"/>\n"
-         "  <world step=\"0.001\" solver_iterations=\"200\">\n    <terrain type=\"flat\"/>\n  </world>\n"
-         "  <robot name=\"rig\" urdf=\"" + path.string() + "\">\n"
-         "    <wheel name=\"left\" joint=\"left_wheel_joint\"/>\n    <wheel name=\"right\" joint=\"right_wheel_joint\"/>\n"
-         "    <caster link=\"front_caster\"/>\n    <caster link=\"rear_caster\"/>\n"
-         "    <servo name=\"pan\" joint=\"pan_joint\" range_deg=\"90\" min_pulse_us=\"800\" max_pulse_us=\"2200\" speed_s_per_60deg=\"0.2\" torque=\"0.5\"/>\n"
-         "    <mcu name=\"main\" engine=\"" + engine + "\">\n      <firmware sources=\"" + sources + "\" defines=\"" + defines + "\"/>\n"
-         "      <servo name=\"pan\" pin=\"30\"/>\n    </mcu>\n  </robot>\n</project>\n";
+  std::ostringstream p;
+  p << "<project name=\"servo_pin\">\n"
+    << "  <run duration=\"" << duration_s << "\" seed=\"1\" trace_rate=\"1000\"/>\n"
+    << "  <world step=\"0.001\" solver_iterations=\"200\"><terrain type=\"flat\"/></world>\n"
+    << "  <robot name=\"rig\" urdf=\"" << path.string() << "\">\n"
+    << "    <wheel name=\"left\" joint=\"left_wheel_joint\"/>\n"
+    << "    <wheel name=\"right\" joint=\"right_wheel_joint\"/>\n"
+    << "    <caster link=\"front_caster\"/>\n    <caster link=\"rear_caster\"/>\n"
+    << "    <servo name=\"pan\" joint=\"pan_joint\" range_deg=\"" << kRangeDeg << "\" min_pulse_us=\""
+    << kCentreUs - kHalfSpanUs << "\" max_pulse_us=\"" << kCentreUs + kHalfSpanUs
+    << "\" speed_s_per_60deg=\"0.2\" torque=\"0.5\"/>\n"
+    << "    <mcu name=\"main\" engine=\"" << engine << "\">\n"
+    << "      <firmware sources=\"" << sources << "\" defines=\"" << defines << "\"/>\n"
+    << "      <servo name=\"pan\" pin=\"" << kPin << "\"/>\n"
+    << "    </mcu>\n  </robot>\n</project>\n";
+  return p.str();
 }
 
 // The servo's angle for a pulse: linear over its range about the 1500 us centre.
@@ -102,9 +115,8 @@ std::vector<long long> rows_between(const Trace& trace, double from_s, double to
   return rows;
 }
 
-// Each pulse's width reaches the servo at its falling edge: the trace row of the step that
-// edge falls in, and every row until the next pulse ends, shows the width (to the 0.1 us the
-// trace prints).
+// Each pulse's width reaches the servo at its falling edge: the trace row at the end of the step
+// that edge falls in shows the width (to the 0.1 us the trace prints).
 void expect_trace_follows_the_wire(const Trace& trace, const std::vector<Pulse>& pulses) {
   for (std::size_t k = 0; k + 1 < pulses.size(); ++k) {
     const double width_us = static_cast<double>(pulses[k].fall_ns - pulses[k].rise_ns) * 1e-3;
@@ -131,8 +143,8 @@ TEST(ServoPin, PulsesMadeWithDigitalWriteAndDelaysTurnTheServo) {
   const SearRun run = run_sear(dir, rig_project(dir, "native", firmware("servo_bitbang.c")));
   ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
   const Trace trace(run.file("trace_rig.csv"));
-  // Each HIGH lasts its delay and the cost of the delay_us call before it began (50 cycles at
-  // 16 MHz): the edges are stamped with their calls' instants.
+  // Each HIGH lasts its delay and the cost of the digital_write(HIGH) call before it (50 cycles
+  // at 16 MHz): the edges are stamped with their calls' instants, and a delay counts from its own.
   const double call_us = 50 / 16.0;
   const std::vector<Pulse> pulses = pulses_of(run);
   ASSERT_EQ(pulses.size(), 100u);
