@@ -285,7 +285,9 @@ static void run_quantum(void) {
   uint32_t sample_next = 0;
   const uint32_t samples = link->sample_count < SEAR_LINK_MAX_SAMPLES ? link->sample_count : SEAR_LINK_MAX_SAMPLES;
   for (;;) {
-    const int64_t now = engine_ns_of_cycle(engine.avr->cycle);
+    /* An instruction that ran past the quantum's end carries its cycles into the next quantum,
+     * and so do the events due in them: the link's clock is the end. */
+    const int64_t now = min64(engine_ns_of_cycle(engine.avr->cycle), engine.quantum_end_ns);
     while (sample_next < samples && link->samples[sample_next].time_ns <= now)
       mcu_devices_sample(&link->samples[sample_next++]);
     mcu_devices_run_due(now);

@@ -13,11 +13,17 @@ namespace {
 
 std::int64_t call_cost_ns(const McuDesc& d) { return std::llround(d.hal_call_cycles * 1e9 / d.clock_hz); }
 
+std::vector<int> servo_pins(const McuDesc& d) {
+  std::vector<int> pins;
+  for (const auto& s : d.servos) pins.push_back(s.pin);
+  return pins;
+}
+
 }  // namespace
 
 McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id, std::size_t index, Vehicle& vehicle,
                      std::uint64_t seed, const std::string& host_log, const McuRunOptions& options)
-    : desc_(desc), id_(std::move(id)), index_(index), tap_(options.tap), vehicle_(vehicle) {
+    : desc_(desc), id_(std::move(id)), index_(index), tap_(options.tap), vehicle_(vehicle), servo_wires_(servo_pins(desc)) {
   DeviceHost host(desc_, world, seed, inputs_);
   for (std::size_t i = 0; i < desc_.devices.size(); ++i) {
     host.set_device(i);
@@ -185,6 +191,7 @@ void McuBridge::drain(std::size_t index, McuListener& listener) {
       case SEAR_EVENT_PIN:
         pin_drive_[e.index] = e.value ? 255 : 0;
         usage_.levels[e.index] |= e.value ? 2 : 1;
+        if (servo_wires_.level(e.index, e.value != 0, e.time_ns)) usage_.waveform[e.index] = true;
         if (pin_listener_[e.index] >= 0)
           devices_[static_cast<std::size_t>(pin_listener_[e.index])]->pin_written(e.index, e.value ? 1 : 0, e.time_ns);
         break;
@@ -193,7 +200,7 @@ void McuBridge::drain(std::size_t index, McuListener& listener) {
         usage_.waveform[e.index] = true;
         break;
       case SEAR_EVENT_SERVO:
-        servo_pulse_us_[e.index] = static_cast<int>(e.value);
+        servo_wires_.announced(e.index, static_cast<int>(e.value));
         usage_.waveform[e.index] = usage_.waveform[e.index] || e.value;
         break;
       case SEAR_EVENT_UART_BEGIN:
@@ -247,7 +254,8 @@ void McuBridge::command_actuators() {
     vehicle_.command_motor(static_cast<std::size_t>(motor), c);
   }
   for (const auto& s : desc_.servos)  // 0: no pulses, so the servo does not hold
-    vehicle_.command_servo(static_cast<std::size_t>(vehicle_.servo_index(s.servo)), servo_pulse_us_[s.pin]);
+    vehicle_.command_servo(static_cast<std::size_t>(vehicle_.servo_index(s.servo)),
+                           servo_wires_.pulse_us(static_cast<std::size_t>(s.pin), process_->clock_ns()));
 }
 
 void McuBridge::note_usage() {

@@ -21,6 +21,7 @@
 #include "runtime/mcu_usage.hpp"
 #include "runtime/run_tap.hpp"
 #include "runtime/serial_wire.hpp"
+#include "runtime/servo_wire.hpp"
 #include "scene/description.hpp"
 
 namespace sear {
@@ -118,7 +119,7 @@ class McuBridge {
   // What the firmware drives on each pin: 0..255 (LOW, PWM duty, HIGH); inputs drive nothing.
   std::array<int, SEAR_LINK_PINS> pin_drive_{};
   std::array<bool, SEAR_LINK_PINS> pin_output_{};
-  std::array<int, SEAR_LINK_PINS> servo_pulse_us_{};
+  ServoWires servo_wires_;  // what each servo's pin carries
   std::vector<std::size_t> receive_next_;  // per desc_.uarts entry: the next captured byte to send
 
   // A UART device on one of the MCU's ports, and the line each way: where the two ends disagree

@@ -71,7 +71,15 @@ class Notes {
     for (const ServoWiring& s : mcu_.desc().servos) {
       if (s.pin < 0) continue;
       wired_[static_cast<std::size_t>(s.pin)] = true;
-      if (!usage_.waveform[static_cast<std::size_t>(s.pin)])
+      // Pulses count from servo_write_us, a PWM timer, or HIGHs of 400..2600 us on the pin itself.
+      const auto p = static_cast<std::size_t>(s.pin);
+      if (usage_.waveform[p]) continue;
+      if (usage_.levels[p] & 2)
+        unused(s.servo, s.pin,
+               "servo '{}': its pin {} never got servo pulses: the firmware drove it HIGH, but never for 400..2600 us "
+               "at a time, 3 ms or more apart",
+               s.servo, s.pin);
+      else
         unused(s.servo, s.pin, "servo '{}': its pin {} never got servo pulses: the firmware never drove it", s.servo, s.pin);
     }
   }

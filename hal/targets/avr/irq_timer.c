@@ -1,7 +1,10 @@
-/* The periodic interrupt of irq_timer_start, on timer5 in CTC mode. Timer5 also serves PWM and
- * servos on pins 44..46; while the periodic interrupt runs, those pins are plain outputs. */
+/* The periodic interrupt of irq_timer_start, on timer5 in CTC mode. Timer5 also serves PWM on
+ * pins 44..46, plain outputs while the periodic interrupt runs, and the software servo pulses
+ * (soft_servo.c), which cannot share it. */
 #include <hal/irq.h>
+#include <hal/system.h>
 
+#include "soft_servo.h"
 #include "timers.h"
 
 #include <avr/interrupt.h>
@@ -27,6 +30,8 @@ void irq_timer_start(uint32_t period_us, irq_handler handler)
         irq_timer_stop();
         return;
     }
+    if (hal_avr_soft_servos_running())
+        hal_refuse("irq_timer_start: timer5 makes the servo pulses of the pins without a 16-bit PWM timer");
     if (period_us < MIN_PERIOD_US)
         period_us = MIN_PERIOD_US;
     if (period_us > MAX_PERIOD_US)

@@ -1,5 +1,5 @@
-/* analogWrite-style PWM on the timer pins and 50 Hz servo pulses on the 16-bit timer pins,
- * sharing each timer between the two. */
+/* analogWrite-style PWM on the timer pins, sharing timers 1, 3 and 4 with the servo pulses of
+ * servo.c, and timer5 with irq_timer_start and the software servos of soft_servo.c. */
 #include <hal/pwm.h>
 
 #include <hal/gpio.h>
@@ -11,33 +11,28 @@
 #include <stddef.h>
 #include <util/atomic.h>
 
-/* A servo pin switches its whole timer to the 50 Hz frame; PWM on that timer's other pins then
- * runs at 50 Hz too, with its duty kept. Timer5 (pins 44..46) yields to irq_timer_start: while
- * the periodic interrupt runs, those pins are plain outputs (pwm_write gives LOW below 128 and
- * HIGH from 128; servo_write_us does nothing). */
+/* A timer in the servo frame runs PWM at 50 Hz, with its duty kept. Timer5 (pins 44..46) makes
+ * the software servo pulses or runs irq_timer_start; while it does either, PWM on 44..46 is a
+ * plain output (pwm_write gives LOW below 128 and HIGH from 128). */
 
-/* A 16-bit timer is in the servo frame when WGMn3 is set: the PWM default (mode 1) and the
- * periodic interrupt's CTC (mode 4) both leave it clear. */
-static uint8_t in_servo_frame(volatile timer16_regs *t)
+uint8_t hal_avr_in_servo_frame(volatile timer16_regs *t)
 {
     return (t->tccrb & _BV(WGM13)) != 0;
 }
 
-/* irq_timer_start owns timer5 while its compare interrupt is enabled. */
-static uint8_t taken_by_irq_timer(uint8_t timer)
+/* irq_timer_start (compare A) or the software servos (compare B) own timer5 while their
+ * interrupt is enabled. */
+static uint8_t timer5_taken(uint8_t timer)
 {
-    return timer == 5 && (TIMSK5 & _BV(OCIE5A));
+    return timer == 5 && (TIMSK5 & (_BV(OCIE5A) | _BV(OCIE5B)));
 }
 
-/* duty/255 of the 40000-count frame, as the high time of OCRn + 1 counts in fast PWM. */
-static uint16_t servo_frame_ocr(uint8_t duty)
+uint16_t hal_avr_servo_frame_ocr(uint8_t duty)
 {
     return (uint16_t)((uint32_t)duty * (TIMER_SERVO_TOP + 1u) / 255u - 1u);
 }
 
-/* DDRx only: pin_mode would disconnect the channel first, and a running servo pulse or PWM
- * period would be cut short on every update. */
-static void make_output(uint8_t pin)
+void hal_avr_timer_pin_output(uint8_t pin)
 {
     pin_io io = hal_avr_pin_io(pin);
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
@@ -45,7 +40,7 @@ static void make_output(uint8_t pin)
     }
 }
 
-static void connect(uint8_t timer, uint8_t channel)
+void hal_avr_timer_connect(uint8_t timer, uint8_t channel)
 {
     volatile uint8_t *tccra = hal_avr_timer_tccra(timer);
     *tccra = (uint8_t)((*tccra & ~TIMER_COM_BITS(channel)) | TIMER_COM_CLEAR_ON_MATCH(channel));
@@ -58,62 +53,19 @@ void pwm_write(uint8_t pin, uint8_t duty)
         return;
     uint8_t timer = PIN_TIMER_NUMBER(code);
     uint8_t channel = PIN_TIMER_CHANNEL(code);
-    make_output(pin);
+    hal_avr_timer_pin_output(pin);
     /* The ends are plain levels: fast PWM (timer0) would still leave a one-count spike at 0,
      * and a taken timer5 has no PWM to give. */
-    if (duty == 0 || duty == 255 || taken_by_irq_timer(timer)) {
+    if (duty == 0 || duty == 255 || timer5_taken(timer)) {
         digital_write(pin, duty >= 128 ? HIGH : LOW);
         return;
     }
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
         volatile timer16_regs *t16 = hal_avr_timer16(timer);
         if (t16)
-            t16->ocr[channel] = in_servo_frame(t16) ? servo_frame_ocr(duty) : duty;
+            t16->ocr[channel] = hal_avr_in_servo_frame(t16) ? hal_avr_servo_frame_ocr(duty) : duty;
         else
             hal_avr_timer8(timer)->ocr[channel] = duty;
-        connect(timer, channel);
-    }
-}
-
-/* Mode 14 at clk/8: TOP = ICRn = 39999 gives 20 ms in 0.5 us counts. Channels already driving
- * PWM are rescaled from 8-bit duty (their OCRn) to the same fraction of the new frame. */
-static void enter_servo_frame(volatile timer16_regs *t)
-{
-    t->tccrb = 0;
-    t->icr = TIMER_SERVO_TOP;
-    for (uint8_t channel = 0; channel < 3; channel++) {
-        if (t->tccra & TIMER_COM_BITS(channel))
-            t->ocr[channel] = servo_frame_ocr((uint8_t)t->ocr[channel]);
-    }
-    t->tccra = (uint8_t)((t->tccra & (TIMER_COM_BITS(0) | TIMER_COM_BITS(1) | TIMER_COM_BITS(2)))
-                         | _BV(WGM11));
-    t->tcnt = 0;
-    t->tccrb = _BV(WGM13) | _BV(WGM12) | _BV(CS11);
-}
-
-void servo_write_us(uint8_t pin, uint16_t pulse_us)
-{
-    uint8_t code = hal_avr_pin_timer(pin);
-    if (code == PIN_NO_TIMER)
-        return;
-    uint8_t timer = PIN_TIMER_NUMBER(code);
-    uint8_t channel = PIN_TIMER_CHANNEL(code);
-    volatile timer16_regs *t = hal_avr_timer16(timer);
-    if (t == NULL || taken_by_irq_timer(timer))
-        return;
-    make_output(pin);
-    if (pulse_us == 0) {
-        digital_write(pin, LOW);
-        return;
-    }
-    if (pulse_us > 20000u)
-        pulse_us = 20000u;
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
-        if (!in_servo_frame(t))
-            enter_servo_frame(t);
-        /* The output is high for OCRn + 1 counts of 0.5 us; OCRn is double-buffered in this
-         * mode, so a new width starts with the next frame and no pulse is cut short. */
-        t->ocr[channel] = (uint16_t)(pulse_us * 2u - 1u);
-        connect(timer, channel);
+        hal_avr_timer_connect(timer, channel);
     }
 }

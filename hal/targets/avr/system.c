@@ -24,11 +24,23 @@ void hal_init(void)
     sei();
 }
 
-/* Nothing to report to on the bench: the chip stops with interrupts off, as a sketch's halt does. */
+/* The chip stops with interrupts off, as a sketch's halt does; the reason goes out on UART 0 first
+ * when the firmware began it (the console a bench reads), byte by byte with interrupts off, after
+ * whatever its ring still held is dropped. */
 void hal_refuse(const char *message)
 {
-    (void)message;
     cli();
+    if (UCSR0B & _BV(TXEN0)) {
+        UCSR0B &= (uint8_t)~_BV(UDRIE0);
+        for (const char *c = message; *c; c++) {
+            while (!(UCSR0A & _BV(UDRE0))) {
+            }
+            UDR0 = (uint8_t)*c;
+        }
+        while (!(UCSR0A & _BV(UDRE0))) {
+        }
+        UDR0 = '\n';
+    }
     for (;;) {
     }
 }

@@ -26,6 +26,17 @@ typedef struct {
 #define TIMER_SERVO_TOP 39999u
 
 volatile uint8_t *hal_avr_timer_tccra(uint8_t timer);   /* timers 0..5 */
+
+/* Shared by pwm_write and servo_write_us (pwm.c). A 16-bit timer is in the servo frame when WGMn3
+ * is set: the PWM default (mode 1) and the periodic interrupt's CTC (mode 4) both leave it clear. */
+uint8_t hal_avr_in_servo_frame(volatile timer16_regs *t);
+/* duty/255 of the 40000-count frame, as the high time of OCRn + 1 counts in fast PWM. */
+uint16_t hal_avr_servo_frame_ocr(uint8_t duty);
+/* DDRx only: pin_mode would disconnect the channel first, and a running servo pulse or PWM
+ * period would be cut short on every update. */
+void hal_avr_timer_pin_output(uint8_t pin);
+/* The channel's output compare drives its pin: cleared on match, as non-inverting PWM. */
+void hal_avr_timer_connect(uint8_t timer, uint8_t channel);
 volatile timer16_regs *hal_avr_timer16(uint8_t timer);  /* 1, 3, 4, 5; NULL otherwise */
 volatile timer8_regs *hal_avr_timer8(uint8_t timer);    /* 0, 2; NULL otherwise */
 
