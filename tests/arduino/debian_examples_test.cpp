@@ -1,4 +1,4 @@
-// Debian's Arduino examples (arduino-core-avr's EEPROM sketches), unchanged: built for the host layer
+// Debian's Arduino examples (arduino-core-avr's EEPROM sketches and Wire's i2c_scanner), unchanged: built for the host layer
 // and run by `sear`, and built for the ATmega2560 with the genuine core and run on the AVR engine;
 // what they print checked against what each example must do.
 #include <gtest/gtest.h>
@@ -152,6 +152,46 @@ TEST(DebianExamplesOnTheChip, TheKeptEepromPersistsOnTheAvrEngineAndAcrossEngine
   const SearRun host_get = run_sear(dir, project(std::string("executable=\"") + EEPROM_GET + "\"", "native", 0.3, keep));
   ASSERT_EQ(host_get.exit_code, 0) << host_get.err;
   EXPECT_EQ(console(host_get), want);
+#endif
+}
+
+// Wire's i2c_scanner addresses 1..126 in turn and names those that acknowledge: on a bus with the
+// project's MPU-6050 (0x68, AD0 low) and HMC5883L (0x1E, fixed: datasheet) exactly those two, in
+// address order, on the host layer and with the genuine Wire library on the chip alike. An empty
+// bus is "No I2C devices found". The scan and its lines at 9600 baud are done by 0.12 s.
+std::string i2c_project(const std::string& firmware_attribute, const std::string& engine, bool devices) {
+  return rover_project("    <mcu name=\"main\" engine=\"" + engine + "\">\n      <firmware " + firmware_attribute + "/>\n" +
+                           (devices ? "      <mpu6050 name=\"imu\" pos=\"0 0 0.05\"/>\n"
+                                      "      <hmc5883l name=\"compass\" pos=\"0 0 0.1\"/>\n"
+                                    : "") +
+                           "    </mcu>\n",
+                       "", 0.3);
+}
+
+void expect_scan(const SearRun& run, bool devices) {
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::vector<std::string> want =
+      devices ? std::vector<std::string>{"", "I2C Scanner", "Scanning...", "I2C device found at address 0x1E  !",
+                                         "I2C device found at address 0x68  !", "done", ""}
+              : std::vector<std::string>{"", "I2C Scanner", "Scanning...", "No I2C devices found", ""};
+  EXPECT_EQ(console(run), want) << run.file("rover.main.console.log");
+}
+
+TEST(DebianWireExamples, TheI2cScannerFindsTheDevicesTheProjectWires) {
+  for (const bool devices : {true, false}) {
+    TempDir dir;
+    expect_scan(run_sear(dir, i2c_project(std::string("executable=\"") + I2C_SCANNER + "\"", "native", devices)), devices);
+  }
+}
+
+TEST(DebianWireExamples, TheI2cScannerOnTheChipFindsTheSame) {
+#ifndef I2C_SCANNER_AVR
+  GTEST_SKIP() << "this build has no AVR engine (engines/avr)";
+#else
+  for (const bool devices : {true, false}) {
+    TempDir dir;
+    expect_scan(run_sear(dir, i2c_project(std::string("elf=\"") + I2C_SCANNER_AVR + "\"", "avr", devices)), devices);
+  }
 #endif
 }
 
