@@ -19,9 +19,9 @@ using namespace sear::test;
 namespace {
 
 // `sear run` on a project file where it lies (its relative paths stay valid).
-SearRun run_project(const TempDir& dir, const std::string& project) {
+SearRun run_project(const TempDir& dir, const std::string& project, const std::string& extra = "") {
   const auto out = dir.path() / "out";
-  const std::string cmd = std::string(SEAR_BINARY) + " run " + project + " -o " + out.string() + " >" +
+  const std::string cmd = std::string(SEAR_BINARY) + " run " + project + " " + extra + " -o " + out.string() + " >" +
                           (dir.path() / "stdout").string() + " 2>" + (dir.path() / "stderr").string();
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(dir.path() / "stdout"),
@@ -43,6 +43,51 @@ TEST(SonarSketch, ReportsTheWallWithinACentimetre) {
     EXPECT_NEAR(static_cast<double>(us), 5800.0, 17.4 + 1) << line;  // 3-sigma noise, rounding
   }
   EXPECT_GE(readings, 15);  // one per ~106 ms over 2 s
+}
+
+// The fixes a $GPGGA sentence carries, in millionths of a degree as the GPS sketch rounds them
+// (ddmm.mmmmm: minutes / 60), from the bytes the firmware received on the GPS's port.
+std::vector<std::pair<long, long>> gga_fixes(const std::string& received) {
+  std::vector<std::pair<long, long>> fixes;
+  const std::regex gga(R"(\$GPGGA,[0-9.]*,(\d\d)(\d\d\.\d+),([NS]),(\d\d\d)(\d\d\.\d+),([EW]),[1-8],)");
+  for (std::sregex_iterator m(received.begin(), received.end(), gga), end; m != end; ++m) {
+    const auto e6 = [&](int deg, int min) {
+      return std::lround((std::stod((*m)[deg]) + std::stod((*m)[min]) / 60.0) * 1e6);
+    };
+    fixes.emplace_back(e6(1, 2) * ((*m)[3] == "S" ? -1 : 1), e6(4, 5) * ((*m)[6] == "W" ? -1 : 1));
+  }
+  return fixes;
+}
+
+// The GPS sketch parses what the NEO-6M sends on Serial1: each fix it prints is the $GPGGA's to the
+// millionth of a degree, on the host layer and built with the genuine core for the AVR engine
+// (where a long is 32 bits: the sketch's arithmetic stays within it) alike. The receiver's first
+// fix comes at its 2 s ttff, then one a second: four by 6 s. Each within 4 CEP (10 m) of the
+// origin the rover stands on, which a fix misses with odds of 2^-16 (Rayleigh: 2^-(r/CEP)^2).
+TEST(GpsSketch, PrintsTheFixesTheReceiverSentOnBothEngines) {
+  std::vector<std::string> printed[2];
+  for (const bool chip : {false, true}) {
+    TempDir dir;
+    const SearRun run = run_project(dir, std::string(SEAR_EXAMPLES_DIR) + "/arduino/gps_sketch/project.xml",
+                                    chip ? "--engine avr" : "");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    if (chip) {  // the chip's build ran on the AVR engine, not the host build in its place
+      ASSERT_TRUE(nlohmann::json::parse(run.file("summary.json"))["avr_engines"]["rover.main"].is_object());
+    }
+    const auto sent = gga_fixes(run.file("rover.main.uart1.rx.bin"));
+    std::vector<std::pair<long, long>> got;
+    for (const auto& line : lines_of(run.file("rover.main.console.log"))) {
+      printed[chip].push_back(line.substr(line.find(' ') + 1));
+      double lat = 0, lon = 0;
+      if (std::sscanf(line.c_str(), "%*s fix %lf %lf", &lat, &lon) != 2) continue;
+      got.emplace_back(std::lround(lat * 1e6), std::lround(lon * 1e6));
+      const double north_m = (lat - 52.2053) * 111320.0, east_m = (lon - 0.1218) * 111320.0 * std::cos(52.2053 * M_PI / 180);
+      EXPECT_LT(std::hypot(north_m, east_m), 4 * 2.5) << line;
+    }
+    EXPECT_EQ(got.size(), 4u) << run.file("rover.main.console.log");
+    EXPECT_EQ(got, sent);
+  }
+  EXPECT_EQ(printed[0], printed[1]);
 }
 
 // As on the Mega, the first Servo takes Timer5: PWM on pin 45 afterwards stops the MCU, and the

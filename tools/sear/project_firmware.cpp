@@ -72,6 +72,13 @@ void build_project_firmware(ProjectDesc& project, bool quiet) {
     for (auto& mcu : robot.mcus) {
       if (!mcu.firmware_sketch.empty()) {
 #ifdef SEAR_HAS_SKETCHES
+        if (mcu.engine == "avr") {  // the genuine core's build, what would be flashed
+          const std::string elf = build_avr_sketch(mcu.firmware_sketch, mcu.firmware_sketch_libraries,
+                                                   default_sketch_toolchain(), mcu.clock_hz);
+          mcu.firmware_executable = SEAR_AVR_ENGINE;
+          mcu.firmware_args = {"--clock-hz", fmt::format("{}", mcu.clock_hz), elf};
+          continue;
+        }
         std::string said;
         SketchChipBuild sketch;
         const std::string id = robot.name + "." + mcu.name;

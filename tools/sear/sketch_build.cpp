@@ -194,4 +194,32 @@ std::string build_sketch(const std::string& name, const std::string& path, const
   return build_firmware(name, sources, firmware, compiler_output);
 }
 
+std::string build_avr_sketch(const std::string& path, const std::vector<std::string>& library_dirs,
+                             const SketchToolchain& toolchain, double clock_hz) {
+  const std::string folder = sketch_folder(path);
+  const std::string sketch_name = fs::path(folder).filename().string();
+  const std::string work = work_dir(toolchain, folder) + "-atmega2560";
+  std::error_code error;
+  fs::create_directories(work, error);
+  const std::string dig = "-DDECIMAL_DIG=__DECIMAL_DIG__";  // Debian's avr-gcc 5.4: hal/arduino/CMakeLists.txt
+  std::vector<std::string> args{toolchain.arduino_builder, "-compile", "-quiet", "-hardware", toolchain.hardware_dir,
+                                "-hardware", toolchain.builder_platform, "-tools", toolchain.builder_platform};
+  if (fs::is_directory(fs::path(folder) / "libraries", error))
+    args.insert(args.end(), {"-libraries", (fs::path(folder) / "libraries").string()});
+  for (const auto& dir : library_dirs) args.insert(args.end(), {"-libraries", fs::absolute(dir).string()});
+  args.insert(args.end(), {"-fqbn", "arduino:avr:mega:cpu=atmega2560",
+                           fmt::format("-prefs=build.f_cpu={}L", static_cast<long long>(clock_hz)),
+                           "-prefs=compiler.c.extra_flags=" + dig, "-prefs=compiler.cpp.extra_flags=" + dig,
+                           "-build-path", work, (fs::path(folder) / (sketch_name + ".ino")).string()});
+  std::string output;
+  if (run(args, output) != 0)
+    throw FirmwareBuildError(
+        fmt::format("sketch '{}' failed to build for the ATmega2560 (arduino-builder, Debian's Arduino core):\n{}",
+                    folder, output));
+  const fs::path elf = fs::path(work) / (sketch_name + ".ino.elf");
+  if (!fs::is_regular_file(elf, error))
+    throw FirmwareBuildError(fmt::format("sketch '{}': arduino-builder made no {}:\n{}", folder, elf.string(), output));
+  return elf.string();
+}
+
 }  // namespace sear

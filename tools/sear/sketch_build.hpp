@@ -49,4 +49,12 @@ std::string build_sketch(const std::string& name, const std::string& path, const
                          const SketchToolchain& toolchain, std::string* compiler_output = nullptr,
                          SketchChipBuild* chip = nullptr);
 
+// The sketch at `path` built for the ATmega2560 as the IDE builds it (arduino-builder -compile with
+// Debian's genuine core and AVR libraries, the user's `library_dirs` and libraries/ beside the
+// sketch), for the AVR engine at `clock_hz` (F_CPU); returns the .elf. arduino-builder keeps its
+// work in a folder per sketch under the cache and rebuilds only what changed. The layer's own
+// libraries (Servo) are host code and are not offered: a sketch needs the genuine one.
+std::string build_avr_sketch(const std::string& path, const std::vector<std::string>& library_dirs,
+                             const SketchToolchain& toolchain, double clock_hz);
+
 }  // namespace sear
