@@ -15,6 +15,7 @@
 #include "firmware_run.hpp"
 #include "model_run.hpp"
 #include "runtime/servo_wire.hpp"
+#include "urdf/urdf_files.hpp"
 
 namespace sear::test {
 namespace {
@@ -34,40 +35,13 @@ std::string firmware(const char* name) { return std::string(SERVO_TEST_FIRMWARE)
 std::string rig_project(const TempDir& dir, const std::string& engine, const std::string& sources,
                         double duration_s = 2.2, const std::string& defines = "") {
   const auto path = dir.path() / "rig.urdf";
-  std::ofstream(path) << R"(<robot name="rig">
-  <link name="base_link">
-    <collision><geometry><box size="0.3 0.2 0.05"/></geometry></collision>
-    <inertial><mass value="20"/><inertia ixx="0.0708" ixy="0" ixz="0" iyy="0.1542" iyz="0" izz="0.2167"/></inertial>
-  </link>
-  <link name="left_wheel">
-    <collision><origin rpy="1.5707963 0 0"/><geometry><cylinder radius="0.045" length="0.025"/></geometry></collision>
-    <inertial><mass value="0.06"/><inertia ixx="3.35e-5" ixy="0" ixz="0" iyy="6.075e-5" iyz="0" izz="3.35e-5"/></inertial>
-  </link>
-  <joint name="left_wheel_joint" type="continuous"><parent link="base_link"/><child link="left_wheel"/>
-    <origin xyz="0 0.12 0"/><axis xyz="0 1 0"/></joint>
-  <link name="right_wheel">
-    <collision><origin rpy="1.5707963 0 0"/><geometry><cylinder radius="0.045" length="0.025"/></geometry></collision>
-    <inertial><mass value="0.06"/><inertia ixx="3.35e-5" ixy="0" ixz="0" iyy="6.075e-5" iyz="0" izz="3.35e-5"/></inertial>
-  </link>
-  <joint name="right_wheel_joint" type="continuous"><parent link="base_link"/><child link="right_wheel"/>
-    <origin xyz="0 -0.12 0"/><axis xyz="0 1 0"/></joint>
-  <link name="front_caster"><collision><geometry><sphere radius="0.0225"/></geometry></collision>
-    <inertial><mass value="0.02"/><inertia ixx="4e-6" ixy="0" ixz="0" iyy="4e-6" iyz="0" izz="4e-6"/></inertial></link>
-  <joint name="front_caster_joint" type="fixed"><parent link="base_link"/><child link="front_caster"/>
-    <origin xyz="0.12 0 -0.0225"/></joint>
-  <link name="rear_caster"><collision><geometry><sphere radius="0.0225"/></geometry></collision>
-    <inertial><mass value="0.02"/><inertia ixx="4e-6" ixy="0" ixz="0" iyy="4e-6" iyz="0" izz="4e-6"/></inertial></link>
-  <joint name="rear_caster_joint" type="fixed"><parent link="base_link"/><child link="rear_caster"/>
-    <origin xyz="-0.12 0 -0.0225"/></joint>
-  <link name="head">
+  std::ofstream(path) << rig_urdf(R"(  <link name="head">
     <collision><origin xyz="0 0 0.015"/><geometry><box size="0.04 0.1 0.03"/></geometry></collision>
     <inertial><origin xyz="0 0 0.015"/><mass value="0.1"/>
       <inertia ixx="9.08e-5" ixy="0" ixz="0" iyy="2.08e-5" iyz="0" izz="9.67e-5"/></inertial>
   </link>
   <joint name="pan_joint" type="revolute"><parent link="base_link"/><child link="head"/>
-    <origin xyz="0 0 0.025"/><axis xyz="0 0 1"/><limit lower="-1.2" upper="1.2" effort="2" velocity="10"/></joint>
-</robot>
-)";
+    <origin xyz="0 0 0.025"/><axis xyz="0 0 1"/><limit lower="-1.2" upper="1.2" effort="2" velocity="10"/></joint>)");
   std::ostringstream p;
   p << "<project name=\"servo_pin\">\n"
     << "  <run duration=\"" << duration_s << "\" seed=\"1\" trace_rate=\"1000\"/>\n"

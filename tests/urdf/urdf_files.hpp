@@ -124,6 +124,25 @@ inline std::string wheel_xml(const std::string& name, double y, double radius = 
                      name, y, radius, width, inertial);
 }
 
+// A 20 kg cart, so that a 0.2 kg link swinging on it barely moves it, on two free wheels and
+// a ball caster at each end, with `extra` links and joints.
+inline std::string rig_urdf(const std::string& extra) {
+  return R"(<robot name="rig">
+  <link name="base_link">
+    <collision><geometry><box size="0.3 0.2 0.05"/></geometry></collision>
+    <inertial><mass value="20"/><inertia ixx="0.0708" ixy="0" ixz="0" iyy="0.1542" iyz="0" izz="0.2167"/></inertial>
+  </link>)" + wheel_xml("left", 0.12) + wheel_xml("right", -0.12) + R"(
+  <link name="front_caster"><collision><geometry><sphere radius="0.0225"/></geometry></collision>
+    <inertial><mass value="0.02"/><inertia ixx="4e-6" ixy="0" ixz="0" iyy="4e-6" iyz="0" izz="4e-6"/></inertial></link>
+  <joint name="front_caster_joint" type="fixed"><parent link="base_link"/><child link="front_caster"/>
+    <origin xyz="0.12 0 -0.0225"/></joint>
+  <link name="rear_caster"><collision><geometry><sphere radius="0.0225"/></geometry></collision>
+    <inertial><mass value="0.02"/><inertia ixx="4e-6" ixy="0" ixz="0" iyy="4e-6" iyz="0" izz="4e-6"/></inertial></link>
+  <joint name="rear_caster_joint" type="fixed"><parent link="base_link"/><child link="rear_caster"/>
+    <origin xyz="-0.12 0 -0.0225"/></joint>
+)" + extra + "\n</robot>\n";
+}
+
 // Imports `text`, written as `name` in `dir`; the diagnostics say why when it fails.
 struct Imported {
   bool ok = false;
