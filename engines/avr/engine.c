@@ -281,7 +281,9 @@ static void run_quantum(void) {
     const int64_t now = engine_ns_of_cycle(engine.avr->cycle);
     while (sample_next < samples && link->samples[sample_next].time_ns <= now)
       mcu_devices_sample(&link->samples[sample_next++]);
-    mcu_devices_run_due(now);
+    /* The last instruction may end a few cycles past the quantum: a device's edge there waits for
+     * the next quantum, so that none is stamped after the clock the turn ends at. */
+    mcu_devices_run_due(now < engine.quantum_end_ns ? now : engine.quantum_end_ns);
     avr_usarts_run_due(now);
     if (engine.avr->cycle >= engine.quantum_end_cycle) break;
     int64_t next = engine.quantum_end_ns;
