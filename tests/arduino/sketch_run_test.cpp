@@ -216,6 +216,28 @@ TEST(SoftwareSerialSketch, ACommandSentOnTheSoftTxPinIsAcknowledgedByTheGps) {
       << run.file("rover.main.uart0.tx.bin");
 }
 
+// The library's one shared 64-byte ring keeps one slot empty: 1.5 s of the GPS (its boot messages
+// and first sentences, over 150 bytes) unread leaves 63 waiting and overflow() true, once (it
+// clears as it is asked). A second object's begin() makes it the listener: the first then has
+// nothing available and is no longer listening.
+TEST(SoftwareSerialSketch, TheRingHolds63BytesAndOneObjectListensAtATime) {
+  TempDir dir;
+  const SearRun run = run_sketch(dir, "soft_ring",
+                                 "#include <SoftwareSerial.h>\nSoftwareSerial gps(10, 11);\nSoftwareSerial other(12, 13);\n"
+                                 "void setup() { Serial.begin(115200); gps.begin(9600); delay(1500);\n"
+                                 "  Serial.print(gps.available()); Serial.print(' '); Serial.print(gps.overflow());\n"
+                                 "  Serial.print(' '); Serial.println(gps.overflow());\n"
+                                 "  other.begin(9600);\n"
+                                 "  Serial.print(gps.isListening()); Serial.print(' '); Serial.print(other.isListening());\n"
+                                 "  Serial.print(' '); Serial.println(gps.available()); }\n"
+                                 "void loop() {}\n",
+                                 "      <mtk3339 name=\"gps\" uart=\"soft:10,11\" pos=\"0 0 0.1\"/>\n", 1.6);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const std::string console = run.file("rover.main.console.log");
+  EXPECT_NE(console.find(" 63 1 0\n"), std::string::npos) << console;
+  EXPECT_NE(console.find(" 0 1 0\n"), std::string::npos) << console;
+}
+
 // The soft UART's RX pin must be one SoftwareSerial can receive on: the project is refused at
 // load, naming the file's line, the attribute and the pins that work.
 TEST(SoftwareSerialWiring, AnRxPinWithoutPinChangeIsRefusedWithTheLine) {
@@ -226,6 +248,17 @@ TEST(SoftwareSerialWiring, AnRxPinWithoutPinChangeIsRefusedWithTheLine) {
   const std::string all = run.out + run.err;
   EXPECT_NE(all.find("project.xml:10: error"), std::string::npos) << all;  // the <mtk3339>'s line
   EXPECT_NE(all.find("<mtk3339> 'uart' \"soft:2,11\": RX pin 2 has no pin-change interrupt"), std::string::npos) << all;
+}
+
+// A soft wire names both pins, RX then TX, as SoftwareSerial(RX, TX) does.
+TEST(SoftwareSerialWiring, ASoftWireWithoutItsTxPinIsRefusedSayingTheForm) {
+  TempDir dir;
+  const SearRun run = run_sketch(dir, "soft_bad", kForwardSoft,
+                                 "      <mtk3339 name=\"gps\" uart=\"soft:10\" pos=\"0 0 0.1\"/>\n", 0.1);
+  EXPECT_NE(run.exit_code, 0);
+  const std::string all = run.out + run.err;
+  EXPECT_NE(all.find("project.xml:10: error"), std::string::npos) << all;
+  EXPECT_NE(all.find("<mtk3339> 'uart' \"soft:10\" must be soft:RX,TX"), std::string::npos) << all;
 }
 
 // `while (true);` at the end of loop(), the Arduino idiom for "stop here": the MCU halts there and
