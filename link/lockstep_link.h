@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #define SEAR_LINK_MAGIC 0x52414553u /* "SEAR" little-endian */
-#define SEAR_LINK_VERSION 7u
+#define SEAR_LINK_VERSION 8u
 /* Guards at both ends of the firmware's writable part: a stray write that runs over them is seen
  * at the next turn even when every value it hit still looks plausible. */
 #define SEAR_LINK_GUARD 0x5EA75EA75EA75EA7ull
@@ -43,7 +43,9 @@
   X(irq_attach_uart_rx) X(irq_disable) X(irq_enable) X(can_begin) X(can_send) X(can_tx_pending)         \
   X(can_available) X(can_receive) X(can_set_mask) X(can_set_filter) X(can_get_counters) X(can_attach_rx) \
   X(i2c_write_read) X(i2c_write_nostop) X(uart_tx_space) X(pulse_in) X(eeprom_read) X(eeprom_write) \
-  X(hal_refuse)
+  X(hal_refuse) X(soft_uart_begin) X(soft_uart_end) X(soft_uart_listen) X(soft_uart_is_listening)      \
+  X(soft_uart_available) X(soft_uart_read) X(soft_uart_peek) X(soft_uart_write) X(soft_uart_overflow)    \
+  X(soft_uart_stop_listening)
 
 #define SEAR_CALL_ENUM(name) SEAR_CALL_##name,
 enum sear_call { SEAR_HAL_CALLS(SEAR_CALL_ENUM) SEAR_CALL_COUNT };
@@ -97,6 +99,13 @@ enum sear_input_kind {
    * SEAR_LINK_NO_PIN; one sample per quantum: value[0..2] the field in the sensor's axes (T) */
   SEAR_INPUT_HMC5883L = 9,
   SEAR_INPUT_QMC5883L = 10,
+  /* A UART device of the simulator's process wired to two plain pins (a soft UART): pins[0] the
+   * firmware's RX pin, which the device's TX drives; pins[1] the firmware's TX pin, which the
+   * simulator decodes from its PIN events; param[0] 1 when the device's TX has RS-232 polarity at
+   * logic levels (idle low, bits inverted). One sample per byte the device sends: time = the
+   * leading edge of its start bit, value[0] the byte, value[1] the baud; the model plays the
+   * frame out as edges on pins[0]. */
+  SEAR_INPUT_UART_PINS = 11,
   SEAR_INPUT_KIND_END
 };
 
@@ -105,7 +114,7 @@ enum sear_input_kind {
 #define SEAR_LINK_SAMPLE_VALUES 6
 #define SEAR_LINK_NO_PIN 0xFFu
 /* How many values a reading of each kind holds, by enum sear_input_kind (0 for none). */
-#define SEAR_LINK_READING_VALUES_BY_KIND 0, 1, 1, 1, 2, 2, 2, 6, 6, 3, 3
+#define SEAR_LINK_READING_VALUES_BY_KIND 0, 1, 1, 1, 2, 2, 2, 6, 6, 3, 3, 0
 
 struct sear_link_input {
   uint32_t kind;                         /* enum sear_input_kind */

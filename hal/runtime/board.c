@@ -18,6 +18,10 @@ int board_has_servo(uint8_t pin) {
 
 int board_has_interrupt(uint8_t pin) {
   if (pin == 2 || pin == 3 || (pin >= 18 && pin <= 21)) return 1; /* INT4, INT5, INT3..INT0 */
+  return board_has_pin_change(pin);
+}
+
+int board_has_pin_change(uint8_t pin) {
   if (pin >= 10 && pin <= 15) return 1;                            /* PCINT4..7, PCINT9..10 */
   if (pin >= 50 && pin <= 53) return 1;                            /* PCINT0..3 */
   return pin >= 62 && pin <= 69;                                   /* A8..A15: PCINT16..23 */

@@ -8,5 +8,6 @@
 int board_has_pwm(uint8_t pin);       /* timer output compare pins */
 int board_has_servo(uint8_t pin);     /* 16-bit timer output compare pins */
 int board_has_interrupt(uint8_t pin); /* INT0..5 and PCINT pins */
+int board_has_pin_change(uint8_t pin); /* PCINT pins: 10..15, 50..53, A8..A15 */
 
 #endif

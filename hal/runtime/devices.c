@@ -230,6 +230,26 @@ static int qmc_i2c_read(struct mcu_device *d, uint8_t *data, uint8_t length, int
   return qmc5883l_i2c_read(&d->u.qmc, data, length, t_ns);
 }
 
+/* A simulator-hosted UART device on a soft UART's RX pin: each byte it sends arrives as a sample
+ * at its start edge, and is played out on the pin bit by bit. */
+static void line_start(struct mcu_device *d, const struct sear_link_input *in) {
+  uart_pins_init(&d->u.line, in->param[0] != 0.0);
+  put_level(d, in->pins[0], (uint8_t)uart_pins_idle_level(&d->u.line));
+}
+
+static void line_take(struct mcu_device *d, const struct sear_link_input *in, const struct sear_link_sample *s) {
+  const double baud = s->value[1];
+  if (!(baud >= 1 && baud <= 4e6) || !(s->value[0] >= 0 && s->value[0] <= 255)) return;
+  put_level(d, in->pins[0], (uint8_t)uart_pins_start(&d->u.line, (uint8_t)s->value[0], (uint32_t)baud, s->time_ns));
+}
+
+static int64_t line_next(const struct mcu_device *d) { return uart_pins_next_edge_ns(&d->u.line); }
+
+static void line_edge(struct mcu_device *d, const struct sear_link_input *in, int64_t now_ns) {
+  (void)now_ns;
+  put_level(d, in->pins[0], (uint8_t)uart_pins_take_edge(&d->u.line));
+}
+
 static const struct device_ops kinds[SEAR_INPUT_KIND_END] = {
     [SEAR_INPUT_GP2D12] = {.sample = gp2d12_take},
     [SEAR_INPUT_GP2D15] = {.init = gp2d15_start, .sample = gp2d15_take},
@@ -251,6 +271,7 @@ static const struct device_ops kinds[SEAR_INPUT_KIND_END] = {
                              .drive = hmc_drive},
     [SEAR_INPUT_QMC5883L] = {.init = qmc_start, .sample = qmc_take, .i2c_address_slot = 0, .i2c_write = qmc_i2c_write,
                              .i2c_read = qmc_i2c_read},
+    [SEAR_INPUT_UART_PINS] = {.init = line_start, .sample = line_take, .next_event = line_next, .run_event = line_edge},
 };
 
 static uint32_t input_count(void) {

@@ -18,6 +18,7 @@
 #include "devices/qmc5883l.h"
 #include "devices/quadrature_encoder.h"
 #include "devices/sharp_gp2d15.h"
+#include "devices/uart_pins.h"
 #include "lockstep_link.h"
 
 #define MCU_FLOATING 0xFF /* nothing outside drives the pin */
@@ -34,6 +35,7 @@ struct mcu_device {
     struct mpu6000 mpu;
     struct hmc5883l hmc;
     struct qmc5883l qmc;
+    struct uart_pins line;
   } u;
   int64_t analog_shown_ns; /* an analog output's last update */
   int64_t next_ns;         /* its next event of its own (devices.c keeps it current) */

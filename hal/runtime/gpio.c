@@ -31,7 +31,7 @@ uint8_t digital_read(uint8_t pin) {
   return mcu_pin_level(pin);
 }
 
-static void drive(uint8_t pin, uint8_t level, int64_t now) {
+void mcu_drive_latch(uint8_t pin, uint8_t level, int64_t now) {
   const uint8_t was = mcu_pin_level(pin);
   const int was_pwm = sear_mcu.pwm[pin];
   struct sear_link_usage *usage = &sear_mcu.link->usage;
@@ -50,11 +50,11 @@ static void drive(uint8_t pin, uint8_t level, int64_t now) {
 void digital_write(uint8_t pin, uint8_t level) {
   const int64_t now = mcu_enter(SEAR_CALL_digital_write);
   mcu_check_pin(pin, "digital_write");
-  drive(pin, level ? HIGH : LOW, now);
+  mcu_drive_latch(pin, level ? HIGH : LOW, now);
 }
 
 void digital_toggle(uint8_t pin) {
   const int64_t now = mcu_enter(SEAR_CALL_digital_toggle);
   mcu_check_pin(pin, "digital_toggle");
-  drive(pin, sear_mcu.latch[pin] ? LOW : HIGH, now);
+  mcu_drive_latch(pin, sear_mcu.latch[pin] ? LOW : HIGH, now);
 }

@@ -88,6 +88,9 @@ struct mcu {
   irq_handler pin_handler[SEAR_LINK_PINS];
   uint8_t pin_edges[SEAR_LINK_PINS];
   uint8_t pin_pending[SEAR_LINK_PINS];
+  /* When the level a device drives last changed the pin's level: the edge's own time, which a
+   * soft UART's receiver decodes from (as the chip would time it by its pin-change interrupt). */
+  int64_t pin_change_ns[SEAR_LINK_PINS];
 
   irq_handler timer_handler;
   int64_t timer_period_ns;

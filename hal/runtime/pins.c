@@ -27,7 +27,9 @@ void mcu_set_driven(uint8_t pin, uint8_t level) {
   const uint8_t before = mcu_pin_level(pin);
   sear_mcu.driven[pin] = level;
   const uint8_t after = mcu_pin_level(pin);
-  if (before == after || !sear_mcu.pin_handler[pin]) return;
+  if (before == after) return;
+  sear_mcu.pin_change_ns[pin] = mcu_devices_time_ns();
+  if (!sear_mcu.pin_handler[pin]) return;
   if ((after == HIGH && (sear_mcu.pin_edges[pin] & IRQ_RISING)) ||
       (after == LOW && (sear_mcu.pin_edges[pin] & IRQ_FALLING)))
     sear_mcu.pin_pending[pin] = 1;

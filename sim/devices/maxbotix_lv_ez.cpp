@@ -22,7 +22,7 @@ class Maxbotix : public SimDevice, public UartDevice {
       : sensor_(beam_of(d)),
         seed_(host.seed(0)),
         noise_sd_m_(d.value("noise")),
-        serial_wired_(d.wire("serial_uart") >= 0),
+        serial_wired_(d.wire("serial_uart") >= 0 || d.soft_rx_pin >= 0),
         inverted_(d.value("inverter") == 0) {
     const int adc = d.wire("adc"), pw = d.wire("pw");
     if (adc >= 0 || pw >= 0) {
@@ -80,7 +80,7 @@ class Maxbotix : public SimDevice, public UartDevice {
 
 void check_outputs(const DeviceDesc& d, ElementReader& r) {
   check_beam(d, r);
-  if (d.wire("adc") < 0 && d.wire("pw") < 0 && d.wire("serial_uart") < 0)
+  if (d.wire("adc") < 0 && d.wire("pw") < 0 && d.wire("serial_uart") < 0 && d.soft_rx_pin < 0)
     r.error("<maxbotix_lv_ez> wires none of its outputs: give 'adc', 'pw' or 'serial_uart'");
 }
 

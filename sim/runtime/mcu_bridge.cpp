@@ -28,13 +28,15 @@ McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id
   for (std::size_t i = 0; i < desc_.devices.size(); ++i) {
     host.set_device(i);
     devices_.push_back(desc_.devices[i].kind->make(desc_.devices[i], host));
+    soft_input_.push_back(devices_.back()->uart() ? add_soft_uart_input(desc_.devices[i], *devices_.back()->uart(), host) : -1);
     input_device_.resize(inputs_.size(), i);
   }
   pin_listener_.fill(-1);
+  soft_tx_link_.fill(-1);
   for (std::size_t i = 0; i < devices_.size(); ++i) {
     const DeviceDesc& d = desc_.devices[i];
     for (std::size_t w = 0; w < d.wires.size(); ++w) {
-      if (d.wires[w] < 0) continue;
+      if (d.wires[w] < 0 && soft_input_[i] < 0) continue;
       if (d.kind->wires[w].kind == WireKind::McuPin) pin_listener_[static_cast<std::size_t>(d.wires[w])] = static_cast<int>(i);
       if (d.kind->wires[w].kind == WireKind::UartPort && devices_[i]->uart()) {
         UartDevice* device = devices_[i]->uart();
@@ -46,6 +48,11 @@ McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id
                            SerialWire(!host_side && device->inverted()), device->baud(), 0});
         serial_.back().to_device.set_receiver_baud(device->baud(), 0);
         serial_.back().to_mcu.set_sender_baud(device->baud(), 0);  // a device sends at the rate it listens at
+        if (soft_input_[i] >= 0) {  // on a soft UART's pins: no port, its frames played out as edges
+          serial_.back().port = SEAR_LINK_UARTS;
+          serial_.back().soft_input = soft_input_[i];
+          soft_tx_link_[static_cast<std::size_t>(d.soft_tx_pin)] = static_cast<int>(serial_.size() - 1);
+        }
       }
     }
   }
@@ -61,6 +68,23 @@ McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id
   process.args = desc_.firmware_args;
   process.eeprom_file = desc_.eeprom_file;
   process_ = std::make_unique<McuProcess>(desc_.firmware_executable, host_log, process, &McuBridge::setup_link, this);
+}
+
+int McuBridge::add_soft_uart_input(const DeviceDesc& d, const UartDevice& device, DeviceHost& host) {
+  if (d.soft_rx_pin < 0) return -1;
+  sear_link_input in = blank_input(SEAR_INPUT_UART_PINS);
+  in.pins[0] = static_cast<std::uint32_t>(d.soft_rx_pin);
+  in.pins[1] = static_cast<std::uint32_t>(d.soft_tx_pin);
+  in.param[0] = device.inverted() ? 1 : 0;
+  return static_cast<int>(host.add_input(in));
+}
+
+void McuBridge::soft_tx_edge(const sear_event& e) {
+  SerialLink& s = serial_[static_cast<std::size_t>(soft_tx_link_[e.index])];
+  line_bytes_.clear();
+  s.from_pin.set_baud(s.device_baud);
+  s.from_pin.edge(static_cast<int>(e.value), e.time_ns, line_bytes_);
+  for (const serial_byte& b : line_bytes_) s.to_device.send(b);
 }
 
 void McuBridge::setup_link(sear_link& link, const void* context) {
@@ -150,9 +174,19 @@ std::uint32_t McuBridge::exchange_serial(std::int64_t t0, std::int64_t t1, sear_
     // What the firmware (or the host) sent up to t0 reaches the device, at the rate it listens at.
     note_device_baud(s, t0);
     line_bytes_.clear();
+    if (s.soft_input >= 0) {  // the firmware's TX pin held its level up to t0
+      s.from_pin.set_baud(s.device_baud);
+      s.from_pin.known_until(t0, line_bytes_);
+      for (const serial_byte& b : line_bytes_) s.to_device.send(b);
+      line_bytes_.clear();
+    }
     s.to_device.receive_until(t0, line_bytes_);
     for (const serial_byte& b : line_bytes_) s.device->receive(b);
     if (tap_ && !line_bytes_.empty()) tap_->on_wire_bytes(index_, s.device_index, false, line_bytes_.data(), line_bytes_.size());
+    if (s.soft_input >= 0 && !s.host) {
+      soft_uart_out(s, t0, t1);
+      continue;
+    }
     // Its answers, no earlier than t0: the firmware's clock is there already.
     const std::size_t n = s.device->transmit(t0, t1, sent_bytes_.data(), sent_bytes_.size());
     for (std::size_t i = 0; i < n; ++i) s.to_mcu.send(sent_bytes_[i]);
@@ -176,6 +210,21 @@ std::uint32_t McuBridge::exchange_serial(std::int64_t t0, std::int64_t t1, sear_
   return rx_count;
 }
 
+// A device on a soft UART's pins: each byte it sends is a sample at its start edge, from which the
+// firmware's process plays the frame out on the RX pin. So that no start edge falls before a
+// quantum already run, the bytes asked for are those that start before t1 (end within a frame).
+void McuBridge::soft_uart_out(SerialLink& s, std::int64_t t0, std::int64_t t1) {
+  const std::int64_t frame = serial_frame_ns(s.device_baud);
+  const std::size_t n = s.device->transmit(t0, t1 + frame, sent_bytes_.data(), sent_bytes_.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const serial_byte& b = sent_bytes_[i];
+    samples_.add(b.end_ns - serial_frame_ns(b.baud), s.soft_bytes++, static_cast<std::uint32_t>(s.soft_input),
+                 {static_cast<double>(b.value), static_cast<double>(b.baud)});
+  }
+  if (tap_ && n) tap_->on_wire_bytes(index_, s.device_index, true, sent_bytes_.data(), n);
+  note_device_baud(s, t0);
+}
+
 void McuBridge::drain(std::size_t index, McuListener& listener) {
   // Each event has passed the link's checks: a firmware that scribbled over its queue is stopped
   // at the first bad one, and nothing it made up reaches the pins, the motors or a file.
@@ -189,6 +238,7 @@ void McuBridge::drain(std::size_t index, McuListener& listener) {
           devices_[static_cast<std::size_t>(pin_listener_[e.index])]->pin_written(e.index, -1, e.time_ns);
         break;
       case SEAR_EVENT_PIN:
+        if (soft_tx_link_[e.index] >= 0) soft_tx_edge(e);
         pin_drive_[e.index] = e.value ? 255 : 0;
         usage_.levels[e.index] |= e.value ? 2 : 1;
         if (servo_wires_.level(e.index, e.value != 0, e.time_ns)) usage_.waveform[e.index] = true;

@@ -19,6 +19,7 @@
 #include "runtime/host_serial.hpp"
 #include "runtime/mcu_process.hpp"
 #include "runtime/mcu_usage.hpp"
+#include "runtime/pin_uart_decoder.hpp"
 #include "runtime/run_tap.hpp"
 #include "runtime/serial_wire.hpp"
 #include "runtime/servo_wire.hpp"
@@ -135,10 +136,22 @@ class McuBridge {
     std::int64_t baud_since_ns;
     std::uint32_t host_baud = 0;
     std::int64_t host_sent_end_ns = 0;  // the host's bytes leave back to back from here
+    // On a soft UART's pins instead of a port: the link input whose model plays the device's
+    // frames out on the firmware's RX pin (-1: on a port), and the receiver of its TX pin.
+    int soft_input = -1;
+    PinUartDecoder from_pin{};
+    std::uint64_t soft_bytes = 0;  // sent so far, each one's sample index
   };
   // The host's bytes onto the line into the device, at the host's rate, from t0 on.
   void take_from_host(SerialLink& s, std::int64_t t0, std::int64_t t1);
   std::vector<SerialLink> serial_;
+  // Soft UARTs (a UART device given uart="soft:RX,TX"): per device, the link input of its pin
+  // model, or -1; per pin, the serial_ entry decoding the firmware's TX there, or -1.
+  static int add_soft_uart_input(const DeviceDesc& d, const UartDevice& device, DeviceHost& host);
+  void soft_tx_edge(const sear_event& e);
+  void soft_uart_out(SerialLink& s, std::int64_t t0, std::int64_t t1);
+  std::vector<int> soft_input_;
+  std::array<int, SEAR_LINK_PINS> soft_tx_link_{};
   // Tells the line into the device of a rate the device took up, from the instant it did.
   static void note_device_baud(SerialLink& s, std::int64_t now_ns);
   std::array<std::uint32_t, SEAR_LINK_UARTS> port_baud_{};  // the firmware's rate per port, 0 until begun

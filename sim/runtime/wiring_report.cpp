@@ -19,6 +19,12 @@ class Notes {
     for (std::size_t i = 0; i < desc.devices.size(); ++i) {
       const DeviceDesc& d = desc.devices[i];
       const std::string who = fmt::format("{} '{}'", d.kind->element, d.name);
+      if (d.soft_rx_pin >= 0) {  // on a soft UART's pins
+        wired_[static_cast<std::size_t>(d.soft_rx_pin)] = wired_[static_cast<std::size_t>(d.soft_tx_pin)] = true;
+        if (kept_ && !usage_.link.pin_read[static_cast<std::size_t>(d.soft_rx_pin)])
+          unused(d.name, d.soft_rx_pin, "{}: its TX drives pin {}, which the firmware never read (a soft UART on it, "
+                 "digital_read or a pin interrupt)", who, d.soft_rx_pin);
+      }
       for (std::size_t w = 0; w < d.wires.size() && w < d.kind->wires.size(); ++w) {
         const int v = d.wires[w];
         if (v < 0) continue;

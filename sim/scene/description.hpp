@@ -247,6 +247,10 @@ struct DeviceDesc {
   double pitch_rad = 0;                 // positive tilts the sensor's axis down
   double roll_rad = 0;                  // about its axis, right-handed
   std::vector<int> wires;               // per kind->wires: pin, channel, port or address; -1 not wired
+  // Its UART wire given as "soft:RX,TX" (its wire then -1): the firmware's soft UART pins, RX the
+  // one the device's TX drives, TX the one it listens to; -1 when on a port.
+  int soft_rx_pin = -1;
+  int soft_tx_pin = -1;
   std::vector<double> values;           // per kind->params, in SI units (Choice: the index)
   std::vector<std::string> texts;       // per kind->params: a Name's text, else empty
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <unordered_set>
@@ -50,6 +51,37 @@ const Range& wire_range(WireKind kind) {
   }
 }
 
+// A UART wire given as "soft:RX,TX" puts the device on two plain pins of a soft UART, named as
+// the firmware names them (SoftwareSerial(RX, TX)): false when the wire is a port number.
+bool read_soft_uart(ElementReader& r, const DeviceWire& w, DeviceDesc& d) {
+  if (w.kind != WireKind::UartPort || !r.has(w.attribute)) return false;
+  const std::string text = r.text(w.attribute, "");
+  if (text.rfind("soft:", 0) != 0) return false;
+  int rx = -1, tx = -1;
+  char extra = 0;
+  const std::string wanted = fmt::format("<{}> '{}' \"{}\" must be soft:RX,TX: the firmware's receive and transmit "
+                                         "pins, as in SoftwareSerial(RX, TX)", r.name(), w.attribute, text);
+  if (std::sscanf(text.c_str() + 5, "%d,%d%c", &rx, &tx, &extra) != 2) {
+    r.error(wanted);
+    return true;
+  }
+  if (!kPin.contains(rx) || !kPin.contains(tx)) {
+    r.error(fmt::format("{}; pins are {}", wanted, kPin.text));
+    return true;
+  }
+  if (rx == tx) r.error(fmt::format("{}; RX and TX cannot be one pin", wanted));
+  // The device's TX reaches the firmware only through a pin-change interrupt, as SoftwareSerial
+  // receives on the Mega (hal/soft_uart.h): elsewhere nothing could ever be read.
+  const bool pin_change = (rx >= 10 && rx <= 15) || (rx >= 50 && rx <= 53) || (rx >= 62 && rx <= 69);
+  if (!pin_change)
+    r.error(fmt::format("<{}> '{}' \"{}\": RX pin {} has no pin-change interrupt; a soft UART receives on 10..15, "
+                        "50..53 and A8..A15 (62..69) of the Mega 2560",
+                        r.name(), w.attribute, text, rx));
+  d.soft_rx_pin = rx;
+  d.soft_tx_pin = tx;
+  return true;
+}
+
 // Any element in the device table: its name, mount, wiring and parameters as its row lists them.
 DeviceDesc read_device(ElementReader& r, const DeviceKind& kind) {
   DeviceDesc d;
@@ -65,6 +97,10 @@ DeviceDesc read_device(ElementReader& r, const DeviceKind& kind) {
     d.pitch_rad = r.number("pitch_deg", 0.0, ranges::kPitch, "deg") * kDegToRad;
   if (kind.mount == Mount::Full) d.roll_rad = r.number("roll_deg", 0.0, ranges::kYaw, "deg") * kDegToRad;
   for (const DeviceWire& w : kind.wires) {
+    if (read_soft_uart(r, w, d)) {
+      d.wires.push_back(-1);
+      continue;
+    }
     const int index = read_index(r, w.attribute, wire_range(w.kind), w.required);
     d.wires.push_back(index >= 0 || r.has(w.attribute) ? index : w.fallback);
   }
@@ -353,6 +389,11 @@ void validate_mcus(const RobotDesc& robot, Diagnostics& diagnostics) {
             break;
           case WireKind::UartPort:
             use(port_use, "UART port", index, d.source, d.name);
+            if (d.soft_rx_pin >= 0) {  // a soft UART: two pins, and the model playing its frames out
+              use(pin_use, "pin", d.soft_rx_pin, d.source, d.name);
+              use(pin_use, "pin", d.soft_tx_pin, d.source, d.name);
+              ++inputs;
+            }
             break;
           case WireKind::I2cAddress:
             use(address_use, "I2C address", index, d.source, d.name);

@@ -46,6 +46,10 @@ std::vector<std::string> pin_labels(const McuDesc& mcu) {
     }
   for (const auto& device : mcu.devices) {
     const std::string name = plain(device.name);
+    if (device.soft_rx_pin >= 0) {  // on a soft UART's pins, named from its side as a port's are
+      add(device.soft_rx_pin, name + ".tx");
+      add(device.soft_tx_pin, name + ".rx");
+    }
     for (std::size_t w = 0; w < device.kind->wires.size() && w < device.wires.size(); ++w) {
       const DeviceWire& wire = device.kind->wires[w];
       const int at = device.wires[w];

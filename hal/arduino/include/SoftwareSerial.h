@@ -1,6 +1,6 @@
-/* Arduino's SoftwareSerial for the simulated build: the library's interface, so that a sketch
- * using it builds, and a refusal at begin() naming the call. A soft UART needs a device that
- * drives a plain pin bit by bit, which SEAR's devices cannot yet do (docs/arduino.md, "Not yet"). */
+/* Arduino's SoftwareSerial for the simulated build: the library's interface on the HAL's soft
+ * UART (hal/soft_uart.h): receive on the pin-change pins only, one listener at a time, a 64-byte
+ * ring, and interrupts held off while a byte is sent, as the library does on the chip. */
 #ifndef SoftwareSerial_h
 #define SoftwareSerial_h
 
@@ -15,21 +15,18 @@ class SoftwareSerial : public Stream {
   SoftwareSerial(uint8_t receivePin, uint8_t transmitPin, bool inverse_logic = false);
   ~SoftwareSerial() {}
   void begin(long speed);
-  bool listen() { return false; }
-  void end() {}
-  bool isListening() { return false; }
-  bool stopListening() { return false; }
-  bool overflow() { return false; }
-  int peek() { return -1; }
+  bool listen();
+  void end();
+  bool isListening();
+  bool stopListening();
+  bool overflow();
+  int peek();
 
   // Before begin() the library's write() fails (its bit delay is 0) and nothing is received.
-  virtual size_t write(uint8_t) {
-    setWriteError();
-    return 0;
-  }
-  virtual int read() { return -1; }
-  virtual int available() { return 0; }
-  virtual void flush() {}
+  virtual size_t write(uint8_t byte);
+  virtual int read();
+  virtual int available();
+  virtual void flush() {}  // the library buffers nothing to send
   operator bool() { return true; }
 
   using Print::write;
@@ -37,6 +34,8 @@ class SoftwareSerial : public Stream {
  private:
   uint8_t receive_pin_;
   uint8_t transmit_pin_;
+  bool inverse_logic_;
+  int line_ = -1;  // the HAL's soft UART id once begun
 };
 
 #endif

@@ -14,5 +14,6 @@
 #include <hal/can.h>
 #include <hal/pulse.h>
 #include <hal/eeprom.h>
+#include <hal/soft_uart.h>
 
 #endif
