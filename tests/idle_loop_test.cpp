@@ -108,9 +108,13 @@ TEST(IdleLoop, ComputingBetweenHalCallsIsNeverTakenForWaitingQuietOrLoaded) {
   EXPECT_EQ(loaded.file("rover.main.console.log"), console);
 }
 
-TEST(IdleLoop, AThousandWaitsOnA1kHzTimerEachEndAtTheirTick) {
+// tests/firmware/tick_wait_probe.c as this tree builds it, and unoptimised (-O0, as a Debug build
+// compiles it: the flag is loaded and tested on every pass, and the loop is no empty one).
+class Waits : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(Waits, AThousandWaitsOnA1kHzTimerEachEndAtTheirTick) {
   TempDir dir;
-  const auto run = run_sear(dir, probe_project(TICK_WAIT_PROBE, 1.1));
+  const auto run = run_sear(dir, probe_project(GetParam(), 1.1));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const std::string console = run.file("rover.main.console.log");
   // Tick k falls due at 1006.25 us + k ms (the timer started at 6.25 us), so the last of 1000 at
@@ -121,6 +125,9 @@ TEST(IdleLoop, AThousandWaitsOnA1kHzTimerEachEndAtTheirTick) {
   EXPECT_EQ(run.err.find("halted"), std::string::npos) << run.err;
   EXPECT_TRUE(nlohmann::json::parse(run.file("summary.json"))["mcu_halts"].empty());
 }
+
+INSTANTIATE_TEST_SUITE_P(IdleLoop, Waits, ::testing::Values(TICK_WAIT_PROBE, TICK_WAIT_O0_PROBE),
+                         [](const auto& param) { return param.index == 0 ? "AsBuilt" : "Unoptimised"; });
 
 // tests/firmware/halt_probe.c: hal_init, uart_begin, pin_mode, irq_timer_start and uart_print act
 // at 0, c, 2c, 3c and 4c; the loop begins when the last call's cost is charged, at 5c (6c after
@@ -204,6 +211,33 @@ TEST(Halt, WithInterruptsOffTheMcuHaltsAndItsTimerNeverRuns) {
   EXPECT_EQ(summary["mcu_halts"][0]["interrupts"], "off");
   // Pin 13 went out LOW and no tick ever toggled it.
   EXPECT_EQ(vcd_changes(run.file("rover.main.pins.vcd"), vcd_id_of_pin(13)).size(), 2u);
+}
+
+// GCC without optimisation (a Debug build, the sanitizers' build of these tests) compiles
+// `for (;;) {}` to `nop; jmp .-1`, not `jmp .`: the MCU halts there all the same, at the same
+// moment, and with interrupts off the run is not taken for hung.
+TEST(Halt, UnoptimisedTheEndlessEmptyLoopHaltsAtTheSameMoment) {
+  TempDir dir;
+  const auto run = run_sear(dir, probe_project(HALT_O0_PROBE, 0.05));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("mcu rover.main halted at sim time 0.000016 s (an endless empty loop; its interrupts still "
+                         "run); the run goes on"),
+            std::string::npos)
+      << run.err;
+  const auto summary = nlohmann::json::parse(run.file("summary.json"));
+  ASSERT_EQ(summary["mcu_halts"].size(), 1u) << summary.dump();
+  EXPECT_DOUBLE_EQ(summary["mcu_halts"][0]["sim_time_s"].get<double>(), kHaltNs * 1e-9);
+  EXPECT_EQ(summary["mcu_halts"][0]["interrupts"], "on");
+  // Its timer still ran: 49 ticks by 0.05 s (the 50th falls due 9.375 us after the end).
+  EXPECT_EQ(vcd_changes(run.file("rover.main.pins.vcd"), vcd_id_of_pin(13)).size(), 2u + 49u);
+
+  TempDir off_dir;
+  const auto off = run_sear(off_dir, probe_project(HALT_IRQ_OFF_O0_PROBE, 0.05));
+  ASSERT_EQ(off.exit_code, 0) << off.err;
+  const auto off_summary = nlohmann::json::parse(off.file("summary.json"));
+  ASSERT_EQ(off_summary["mcu_halts"].size(), 1u) << off_summary.dump();
+  EXPECT_DOUBLE_EQ(off_summary["mcu_halts"][0]["sim_time_s"].get<double>(), (kHaltNs + kCallNs) * 1e-9);
+  EXPECT_EQ(off_summary["mcu_halts"][0]["interrupts"], "off");
 }
 
 }  // namespace

@@ -8,16 +8,23 @@
 #include <dlfcn.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 typedef struct dxWorld *dWorldID;
 typedef struct dxBody *dBodyID;
 typedef double dReal; /* Debian's libode is built in double precision */
 
+/* dlsym's object pointer into a function pointer, as POSIX allows and ISO C does not say. */
+static void look_up(void *function_pointer, size_t size, const char *name) {
+  void *symbol = dlsym(RTLD_NEXT, name);
+  memcpy(function_pointer, &symbol, size);
+}
+
 static dBodyID first_body;
 
 dBodyID dBodyCreate(dWorldID world) {
   static dBodyID (*real)(dWorldID);
-  if (!real) real = (dBodyID(*)(dWorldID))dlsym(RTLD_NEXT, "dBodyCreate");
+  if (!real) look_up(&real, sizeof real, "dBodyCreate");
   dBodyID body = real(world);
   if (!first_body) first_body = body;
   return body;
@@ -28,8 +35,8 @@ int dWorldQuickStep(dWorldID world, dReal stepsize) {
   static void (*set_velocity)(dBodyID, dReal, dReal, dReal);
   static long steps, break_at = -1;
   if (!real) {
-    real = (int (*)(dWorldID, dReal))dlsym(RTLD_NEXT, "dWorldQuickStep");
-    set_velocity = (void (*)(dBodyID, dReal, dReal, dReal))dlsym(RTLD_NEXT, "dBodySetLinearVel");
+    look_up(&real, sizeof real, "dWorldQuickStep");
+    look_up(&set_velocity, sizeof set_velocity, "dBodySetLinearVel");
     const char *at = getenv("SEAR_TEST_BREAK_STEP");
     break_at = at ? atol(at) : -1;
   }

@@ -13,6 +13,7 @@
 
 #include "devices/sharp_gp2d12.h"
 #include "model_run.hpp"
+#include "scoped_env.hpp"
 
 namespace sear::test {
 namespace {
@@ -214,11 +215,20 @@ TEST(StopKind, ARefusedCallIsReportedWithTheHalsReasonAndNoCode) {
 // 1 ms the rover's first body has a NaN velocity, which the check after that step finds.
 TEST(RunStatus, APhysicsFailureEndsTheRunWithCode4AndItsReport) {
   TempDir dir;
-  setenv("LD_PRELOAD", PHYSICS_FAULT_PRELOAD, 1);
-  setenv("SEAR_TEST_BREAK_STEP", "250", 1);
-  const auto run = run_sear(dir, rover_project(kDriveOn, "", 1.0));
-  unsetenv("LD_PRELOAD");
-  unsetenv("SEAR_TEST_BREAK_STEP");
+#ifdef __SANITIZE_ADDRESS__
+  // In a sanitizer build sear and its firmware want ASan's runtime first among their libraries,
+  // and the preloaded library (built without the sanitizers, as the shell loads it too) comes
+  // before it; it interposes no allocation function, which is what that order is checked for.
+  const char* asan_options = std::getenv("ASAN_OPTIONS");
+  const ScopedEnv link_order("ASAN_OPTIONS", std::string(asan_options ? asan_options : "") +
+                                                 (asan_options ? ":" : "") + "verify_asan_link_order=0");
+#endif
+  SearRun run;
+  {
+    const ScopedEnv preload("LD_PRELOAD", PHYSICS_FAULT_PRELOAD);
+    const ScopedEnv break_step("SEAR_TEST_BREAK_STEP", "250");
+    run = run_sear(dir, rover_project(kDriveOn, "", 1.0));
+  }
   EXPECT_EQ(run.exit_code, 4) << run.err;
   EXPECT_NE(run.err.find("sear: physics failed at sim time 0.250000 s: robot 'rover'"), std::string::npos) << run.err;
   const auto summary = nlohmann::json::parse(run.file("summary.json"));

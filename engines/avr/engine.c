@@ -321,6 +321,25 @@ static void refuse_high_adc_channels(void) {
   }
 }
 
+/* The ATmega2560's data space is 64 KiB: past its RAMEND (0x21FF) lies the external memory
+ * interface, which without external RAM reads undefined values. simavr 1.6 allocates avr->data
+ * for 0..RAMEND only (avr_init) and, on an access past it, logs "Invalid read/write address"
+ * and calls avr_sadly_crashed but still reads or writes avr->data[addr] (sim_core.c), up to
+ * 0xFFFF (data addresses are uint16_t): a stray pointer in the firmware then reads past the
+ * allocation or corrupts the host's heap. With the whole space allocated (zeroed: the chip's
+ * value there is undefined), the access stays in memory of ours and the crash report still names
+ * the address. Safe here: avr->data is a plain malloc() block that simavr reaches only through
+ * avr->data (no peripheral keeps a pointer into it; avr_reset() writes through avr->data) and
+ * frees in avr_terminate(); nothing has run yet, and realloc keeps the registers avr_init()'s
+ * reset set. */
+static void grow_data_space(avr_t *avr) {
+  const size_t whole = 0x10000u, allocated = (size_t)avr->ramend + 1;
+  uint8_t *data = realloc(avr->data, whole);
+  if (!data) engine_fatal("out of memory for the ATmega2560's 64 KiB data space");
+  memset(data + allocated, 0, whole - allocated);
+  avr->data = data;
+}
+
 static void load_chip(const char *elf_path, const char *report_path) {
   static elf_firmware_t firmware; /* its symbols stay in use for the report */
   memset(&firmware, 0, sizeof firmware);
@@ -328,6 +347,7 @@ static void load_chip(const char *elf_path, const char *report_path) {
   avr_t *avr = avr_make_mcu_by_name("atmega2560");
   if (!avr) engine_fatal("libsimavr has no ATmega2560");
   avr_init(avr);
+  grow_data_space(avr);
   avr_load_firmware(avr, &firmware);
   /* .data and .bss from the start of the ATmega2560's SRAM at 0x200 (datasheet figure 8-2). */
   engine.bss_end = (uint16_t)(0x200u + firmware.datasize + firmware.bsssize);

@@ -72,7 +72,7 @@ void board_drive_pin(uint8_t pin, uint8_t level) {
   if (pin >= SEAR_LINK_PINS) return;
   const int p = pin_port_bit[pin] >> 3, bit = pin_port_bit[pin] & 7;
   const uint8_t m = (uint8_t)(1u << bit);
-  const uint8_t was = (ports[p].driven_mask & m) ? (uint8_t)(ports[p].driven >> bit & 1) : MCU_FLOATING;
+  const uint8_t was = (uint8_t)((ports[p].driven_mask & m) ? ports[p].driven >> bit & 1 : MCU_FLOATING);
   if (was != level) engine_emit(SEAR_EVENT_PIN_DRIVEN, pin, level == MCU_FLOATING ? 2u : level, mcu_devices_time_ns());
   if (level == MCU_FLOATING) {
     ports[p].driven_mask = (uint8_t)(ports[p].driven_mask & ~m);

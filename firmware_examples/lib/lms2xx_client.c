@@ -72,7 +72,7 @@ static uint16_t bad_headers;
  * half; the register and the "previous byte" start at 0, and it runs from STX to the last byte
  * before the CRC. Not the CRC-16/ARC of the same generator: the previous byte takes part. */
 static uint16_t sick_crc_step(uint16_t crc, uint8_t previous, uint8_t byte) {
-  crc = (crc & 0x8000u) ? (uint16_t)(((crc & 0x7FFFu) << 1) ^ 0x8005u) : (uint16_t)(crc << 1);
+  crc = (uint16_t)((crc & 0x8000u) ? ((crc & 0x7FFFu) << 1) ^ 0x8005u : (unsigned)crc << 1);
   return (uint16_t)(crc ^ (uint16_t)(((uint16_t)previous << 8) | byte));
 }
 
@@ -97,7 +97,7 @@ static uint8_t judge(const uint8_t *t, uint16_t n) {
   const uint16_t length = (uint16_t)(t[2] | ((uint16_t)t[3] << 8));
   if (length < 2 || length > LMS_TELEGRAM_MAX - 6u) return BAD_HEADER;
   if (n >= 5 && !(t[4] & REPLY)) return BAD_HEADER;
-  if (n >= 7 && t[4] == LMS_CMD_SCAN && length != 1u + 2u + 2u * ((t[5] | ((uint16_t)t[6] << 8)) & 0x3FFu) + 1u)
+  if (n >= 7 && t[4] == LMS_CMD_SCAN && length != 1u + 2u + 2u * ((t[5] | (unsigned)t[6] << 8) & 0x3FFu) + 1u)
     return BAD_HEADER;
   if (n < length + 6u) return PARTIAL;
   const uint16_t sent = (uint16_t)(t[length + 4u] | ((uint16_t)t[length + 5u] << 8));
@@ -305,7 +305,7 @@ int16_t lms_cos_k(uint16_t k) { return k <= 180 ? sin_half_deg[180 - k] : (int16
  * count as nothing seen. */
 uint16_t lms_range_mm(uint16_t i, uint8_t unit) {
   const uint16_t raw =
-      (uint16_t)((lms_telegram[7 + 2 * i] | ((uint16_t)lms_telegram[8 + 2 * i] << 8)) & 0x1FFFu);
+      (uint16_t)((lms_telegram[7 + 2 * i] | (unsigned)lms_telegram[8 + 2 * i] << 8) & 0x1FFFu);
   if (raw >= 8183u || raw == 0) return LMS_NOTHING_MM;
   const uint32_t mm = unit == 0 ? raw * 10uL : raw;
   return mm > LMS_NOTHING_MM ? LMS_NOTHING_MM : (uint16_t)mm;

@@ -90,7 +90,7 @@ unsigned long pulseInLong(uint8_t pin, uint8_t state, unsigned long timeout) { r
 
 void shiftOut(uint8_t dataPin, uint8_t clockPin, uint8_t bitOrder, uint8_t val) {
   for (uint8_t i = 0; i < 8; i++) {
-    digitalWrite(dataPin, bitOrder == LSBFIRST ? (val >> i) & 1 : (val >> (7 - i)) & 1);
+    digitalWrite(dataPin, static_cast<uint8_t>(bitOrder == LSBFIRST ? (val >> i) & 1 : (val >> (7 - i)) & 1));
     digitalWrite(clockPin, HIGH);
     digitalWrite(clockPin, LOW);
   }

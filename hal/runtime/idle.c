@@ -20,8 +20,8 @@
  * steps. Each jump stays bounded (MAX_WAIT_NS) so that a loop outside these assumptions loses at
  * most that. Elsewhere than x86-64 such loops are reported as hung.
  *
- * A look that finds the firmware on an instruction that jumps to itself (`while (true);`,
- * `for (;;);`: `jmp .`) needs no proof: that instruction reads nothing and changes nothing, so
+ * A look that finds the firmware in an empty endless loop (`while (true);`, `for (;;);`: `jmp .`,
+ * or `nop; jmp .-1` unoptimised) needs no proof: that loop reads nothing and changes nothing, so
  * only an interrupt can preempt it, and after the interrupt it is there again. The MCU is halted
  * from the moment it got there (its clock has not moved since): the simulator is told once, and
  * from then on the look's handler runs the lockstep itself, delivering interrupts at their times
@@ -385,15 +385,65 @@ static void run_to_next_interrupt(void) {
   }
 }
 
-/* `jmp rel8 -2` or `jmp rel32 -5`: the instruction at `rip` jumps to itself. */
-static int jumps_to_itself(uintptr_t rip) {
-  if (rip >= VSYSCALL_PAGE || (rip >= w->vdso_start && rip < w->vdso_end)) return 0;
-  const unsigned char *p = (const unsigned char *)rip;
-  if (p[0] == 0xEB) return p[1] == 0xFE;
-  return p[0] == 0xE9 && p[1] == 0xFB && p[2] == 0xFF && p[3] == 0xFF && p[4] == 0xFF;
+/* The length of the no-operation instruction at `p`, or 0 if it is something else: `nop` (90),
+ * with operand-size or segment prefixes (66 90, `xchg %ax,%ax`), and the long forms
+ * `nopw/nopl disp(base,index)` (0F 1F /0) compilers pad with, whose memory operand is never read. */
+static int nop_length(const unsigned char *p) {
+  int n = 0;
+  while (n < 4 && (p[n] == 0x66 || p[n] == 0x2E || p[n] == 0x3E)) ++n;
+  if (p[n] == 0x90) return n + 1; /* not F3 90 (pause) nor 4x 90 (xchg with r8), which are not listed */
+  if (p[n] != 0x0F || p[n + 1] != 0x1F) return 0;
+  const unsigned char modrm = p[n + 2];
+  const int mod = modrm >> 6, reg = (modrm >> 3) & 7, rm = modrm & 7;
+  if (reg != 0) return 0; /* 0F 1F /1../7 are reserved hints, not the documented NOP */
+  n += 3;
+  if (mod == 3) return n;
+  if (rm == 4) { /* a SIB byte; base 5 with mod 0 means a 32-bit displacement instead of a base */
+    if (mod == 0 && (p[n] & 7) == 5) n += 4;
+    ++n;
+  } else if (mod == 0 && rm == 5) {
+    n += 4; /* rip-relative */
+  }
+  return n + (mod == 1 ? 1 : mod == 2 ? 4 : 0);
 }
 
-/* The firmware sits in `jmp .` for good: tells the simulator once, then runs the lockstep from
+/* The longest run of no-operations before the jump that is taken for an empty loop. */
+#define MAX_LOOP_NOPS 16
+
+/* The instruction at `rip` is in an empty endless loop: from it, no-operations only lead to a jump
+ * back (`jmp rel8` EB, `jmp rel32` E9) to a place from which no-operations only lead to that same
+ * jump. An optimised build makes `while (true);` and `for (;;);` a jump to itself (`jmp .`); GCC
+ * without optimisation (a Debug build, the sanitizers' test build) keeps a `nop` for the empty
+ * body, on which a debugger can stop, and jumps back to it: `nop; jmp .-1` (90 EB FD). Either reads
+ * nothing and changes nothing but the instruction pointer. A loop that does anything at all, even
+ * only reads a volatile flag, has another instruction in it and is not this. */
+static int in_empty_loop(uintptr_t rip) {
+  if (rip >= VSYSCALL_PAGE || (rip >= w->vdso_start && rip < w->vdso_end)) return 0;
+  const unsigned char *p = (const unsigned char *)rip;
+  for (int len, skipped = 0; (len = nop_length(p)) > 0; p += len)
+    if ((skipped += len) > MAX_LOOP_NOPS) return 0;
+  const unsigned char *next;
+  int32_t offset;
+  if (p[0] == 0xEB) {
+    next = p + 2;
+    offset = (int8_t)p[1];
+  } else if (p[0] == 0xE9) {
+    next = p + 5;
+    memcpy(&offset, p + 1, sizeof offset);
+  } else {
+    return 0;
+  }
+  const unsigned char *target = next + offset;
+  if (target > p || p - target > MAX_LOOP_NOPS) return 0;
+  while (target < p) {
+    const int len = nop_length(target);
+    if (len == 0) return 0;
+    target += len;
+  }
+  return target == p; /* not a jump into the middle of an instruction */
+}
+
+/* The firmware sits in an empty loop for good: tells the simulator once, then runs the lockstep from
  * here for the rest of the run, as the chip would keep taking interrupts from the loop (none while
  * they are off, or inside a handler that never returns). Never returns: what it preempted would
  * only jump to itself again. Looks stop; SIGVTALRM is held while this handler runs anyway. */
@@ -433,7 +483,7 @@ static void on_look(int signal_number, siginfo_t *info, void *untyped) {
   w->stepping = 0; /* if it was on, the firmware cleared the trap flag itself (popf) */
   /* Halted, whatever it waits for: with no interrupt armed, or with interrupts off, too. A
    * firmware past exit() has let go of the link, and another thread could still call the HAL. */
-  if (!sear_mcu.exiting && jumps_to_itself((uintptr_t)context->uc_mcontext.gregs[REG_RIP]) && single_threaded())
+  if (!sear_mcu.exiting && in_empty_loop((uintptr_t)context->uc_mcontext.gregs[REG_RIP]) && single_threaded())
     halt_here();
   const uint64_t calls = link->calls;
   const int calling = calls != w->calls_at_last_look;

@@ -11,7 +11,7 @@ static uint16_t crc16(const uint8_t *p, unsigned n) {
   uint16_t crc = 0;
   uint8_t previous = 0;
   for (unsigned i = 0; i < n; ++i) {
-    crc = (crc & 0x8000u) ? (uint16_t)(((crc & 0x7FFFu) << 1) ^ 0x8005u) : (uint16_t)(crc << 1);
+    crc = (uint16_t)((crc & 0x8000u) ? ((crc & 0x7FFFu) << 1) ^ 0x8005u : (unsigned)crc << 1);
     crc ^= (uint16_t)(p[i] | (previous << 8));
     previous = p[i];
   }

@@ -137,7 +137,13 @@ SketchToolchain default_sketch_toolchain() {
   t.include_dirs = {SEAR_ARDUINO_INCLUDE_DIR, std::string(SEAR_ARDUINO_OWN_LIBRARIES_DIR) + "/Servo/src"};
   t.libraries = {SEAR_ARDUINO_LIBRARY, SEAR_ARDUINO_HAL_LIBRARY};
   // The sketch's .c files with the C compiler ($CC), the rest with the C++ one ($CXX), as the IDE.
-  t.firmware = default_toolchain(SEAR_ARDUINO_HAL_INCLUDE_DIR, {}, {"-lm"});
+  std::vector<std::string> link_flags{"-lm"};
+#ifdef SEAR_FIRMWARE_SANITIZE
+  // The Arduino layer and the HAL runtime were built with the sanitizers, so the sketch links their
+  // runtime; its own code is compiled as it would be without them, as a native firmware's is.
+  link_flags.push_back(SEAR_FIRMWARE_SANITIZE);
+#endif
+  t.firmware = default_toolchain(SEAR_ARDUINO_HAL_INCLUDE_DIR, {}, link_flags);
   t.firmware.cxx_std = "gnu++17";
   t.firmware.c_std = "gnu11";
   return t;

@@ -195,7 +195,7 @@ static int8_t wait_mode(uint8_t mode, uint32_t limit_us) {
 /* The longest three frames can take (an extended 8-byte frame is at most 160 bits with
  * stuffing), plus a millisecond for the SPI round trips. */
 static uint32_t three_frames_us(void) {
-  return bitrate_now ? 3UL * 160UL * 1000000UL / bitrate_now + 1000UL : 1000UL;
+  return (uint32_t)(bitrate_now ? 3UL * 160UL * 1000000UL / bitrate_now + 1000UL : 1000UL);
 }
 
 /* Configuration mode waits for pending frames to go out (section 10.1); when the bus does not
