@@ -110,6 +110,21 @@ SketchChipBuild chip_build(const SketchToolchain& toolchain, const std::string& 
   return chip;
 }
 
+constexpr const char* kMegaFqbn = "arduino:avr:mega:cpu=atmega2560";
+
+// arduino-builder doing `action` on the sketch in `folder`, as the IDE would: Debian's hardware and
+// arduino-builder's own platform, then the libraries beside the sketch, then the user's.
+std::vector<std::string> builder_args(const SketchToolchain& toolchain, const char* action, const std::string& folder,
+                                      const std::vector<std::string>& library_dirs) {
+  std::vector<std::string> args{toolchain.arduino_builder, action, "-quiet", "-hardware", toolchain.hardware_dir,
+                                "-hardware", toolchain.builder_platform, "-tools", toolchain.builder_platform};
+  std::error_code error;
+  if (fs::is_directory(fs::path(folder) / "libraries", error))
+    args.insert(args.end(), {"-libraries", (fs::path(folder) / "libraries").string()});
+  for (const auto& dir : library_dirs) args.insert(args.end(), {"-libraries", fs::absolute(dir).string()});
+  return args;
+}
+
 }  // namespace
 
 std::string sketch_folder(const std::string& path) {
@@ -159,13 +174,9 @@ std::string build_sketch(const std::string& name, const std::string& path, const
   fs::create_directories(work, error);
 
   // The IDE's preprocessing; libraries beside the sketch come first, then the user's, then ours.
-  std::vector<std::string> args{toolchain.arduino_builder, "-preprocess", "-quiet", "-hardware", toolchain.hardware_dir,
-                                "-hardware", toolchain.builder_platform, "-tools", toolchain.builder_platform};
-  if (fs::is_directory(fs::path(folder) / "libraries", error))
-    args.insert(args.end(), {"-libraries", (fs::path(folder) / "libraries").string()});
-  for (const auto& dir : library_dirs) args.insert(args.end(), {"-libraries", fs::absolute(dir).string()});
-  args.insert(args.end(), {"-libraries", toolchain.own_libraries_dir, "-fqbn", "arduino:avr:mega:cpu=atmega2560",
-                           "-build-path", work, (fs::path(folder) / (sketch_name + ".ino")).string()});
+  std::vector<std::string> args = builder_args(toolchain, "-preprocess", folder, library_dirs);
+  args.insert(args.end(), {"-libraries", toolchain.own_libraries_dir, "-fqbn", kMegaFqbn, "-build-path", work,
+                           (fs::path(folder) / (sketch_name + ".ino")).string()});
   std::string output;
   if (run(args, output) != 0)
     throw FirmwareBuildError(fmt::format("sketch '{}' failed to preprocess (arduino-builder):\n{}", folder, output));
@@ -208,12 +219,8 @@ std::string build_avr_sketch(const std::string& path, const std::vector<std::str
   std::error_code error;
   fs::create_directories(work, error);
   const std::string dig = "-DDECIMAL_DIG=__DECIMAL_DIG__";  // Debian's avr-gcc 5.4: hal/arduino/CMakeLists.txt
-  std::vector<std::string> args{toolchain.arduino_builder, "-compile", "-quiet", "-hardware", toolchain.hardware_dir,
-                                "-hardware", toolchain.builder_platform, "-tools", toolchain.builder_platform};
-  if (fs::is_directory(fs::path(folder) / "libraries", error))
-    args.insert(args.end(), {"-libraries", (fs::path(folder) / "libraries").string()});
-  for (const auto& dir : library_dirs) args.insert(args.end(), {"-libraries", fs::absolute(dir).string()});
-  args.insert(args.end(), {"-fqbn", "arduino:avr:mega:cpu=atmega2560",
+  std::vector<std::string> args = builder_args(toolchain, "-compile", folder, library_dirs);
+  args.insert(args.end(), {"-fqbn", kMegaFqbn,
                            fmt::format("-prefs=build.f_cpu={}L", static_cast<long long>(clock_hz)),
                            "-prefs=compiler.c.extra_flags=" + dig, "-prefs=compiler.cpp.extra_flags=" + dig,
                            "-build-path", work, (fs::path(folder) / (sketch_name + ".ino")).string()});
