@@ -5,6 +5,7 @@
 
 #include <sys/types.h>
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -102,6 +103,9 @@ class McuProcess {
   double hang_timeout_s_;
   sear_link_watch watch_;
   sear_link_turn turn_{};
+  // When the turn went to the firmware, and how long to spin for it next time (see wait()).
+  std::chrono::steady_clock::time_point given_at_{};
+  std::int64_t spin_ns_;
   std::vector<sear_event> events_;
   std::optional<McuFailure> failure_;
   std::optional<McuHalt> halt_;
