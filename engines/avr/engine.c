@@ -201,6 +201,7 @@ static inline int step(avr_t *avr) {
    * (the watchdog's reset); that one runs as simavr would run it. */
   if (__builtin_expect(avr->run != avr_callback_run_raw, 0)) {
     avr->run(avr);
+    if (resets != resets_seen) check_resets(); /* only such a callback resets the chip */
     return avr->state;
   }
   avr_flashaddr_t new_pc = avr->pc;
@@ -236,20 +237,27 @@ static void note_halt(uint64_t cycle) {
   link->halt = engine.avr->sreg[S_I] ? SEAR_HALT_EMPTY_LOOP : SEAR_HALT_EMPTY_LOOP_IRQ_OFF;
 }
 
-/* Runs per instruction: whatever it checks beyond step() is a load and a compare, rarely taken, and
- * the stack pointer is read once (the one after an instruction is the one before the next). */
+/* Runs per instruction, about as many host instructions as simavr's decoder takes (callgrind):
+ * what it checks beyond step() is kept in registers where nothing else changes it (the data
+ * space is allocated once; only this loop moves the lowest stack pointer and the I flag it
+ * last saw), and the stack pointer is read once (the one after an instruction is the one
+ * before the next). */
 static void run_to(uint64_t cycle) {
   avr_t *avr = engine.avr;
   set_slice_end(cycle);
-  uint16_t sp = stack_pointer();
-  static uint8_t irq_on; /* the I flag after the last instruction: reset clears it */
+  const uint8_t *const data = avr->data;
+  const uint32_t code_end = engine.code_end;
+  uint16_t lowest_sp = engine.lowest_sp;
+  uint16_t sp = (uint16_t)(data[R_SPL] | data[R_SPH] << 8);
+  static uint8_t irq_seen; /* the I flag after the last instruction: reset clears it */
+  uint8_t irq_on = irq_seen;
   while (avr->cycle < slice_end_cycle) {
     const uint32_t pc = avr->pc;
     const uint64_t before = avr->cycle;
     const uint16_t sp_before = sp;
     const int was = avr->state;
     const int state = step(avr);
-    sp = stack_pointer();
+    sp = (uint16_t)(data[R_SPL] | data[R_SPH] << 8);
     if (__builtin_expect(avr->pc == pc, 0) && was == cpu_Running && state == cpu_Running && sp == sp_before)
       note_halt(before);
     avr_profile_count(pc, avr->cycle - before);
@@ -260,21 +268,21 @@ static void run_to(uint64_t cycle) {
     /* Past the image is erased flash, which the chip would run through to a reset. */
     /* The chip's program counter wraps within its flash; simavr's does not (a backward jump from
      * the start reads as 0xffffffxx), so the report gives the address the chip would be at. */
-    if (__builtin_expect(avr->pc >= engine.code_end, 0))
+    if (__builtin_expect(avr->pc >= code_end, 0))
       engine_fatal("the ATmega2560 jumped into nowhere: pc 0x%05x is past the program's end at 0x%05x (from pc 0x%05x, "
                    "cycle %" PRIu64 ")",
-                   (unsigned)(avr->pc & avr->flashend), engine.code_end, pc, (uint64_t)avr->cycle);
+                   (unsigned)(avr->pc & avr->flashend), code_end, pc, (uint64_t)avr->cycle);
     if (__builtin_expect(state != cpu_Running && state != cpu_Sleeping, 0)) check_state(state);
-    if (__builtin_expect(resets != resets_seen, 0)) check_resets();
     /* The stack grows down towards .data and .bss: past their end it overwrites globals. */
-    if (__builtin_expect(sp < engine.lowest_sp, 0)) {
-      engine.lowest_sp = sp;
+    if (__builtin_expect(sp < lowest_sp, 0)) {
+      lowest_sp = engine.lowest_sp = sp;
       if (sp < engine.bss_end)
         engine_fatal("the ATmega2560's stack ran into .bss: SP 0x%04x is below __bss_end 0x%04x (pc 0x%05x, cycle %" PRIu64
                      ")",
                      sp, engine.bss_end, (unsigned)avr->pc, (uint64_t)avr->cycle);
     }
   }
+  irq_seen = irq_on;
 }
 
 static int64_t min64(int64_t a, int64_t b) { return a < b ? a : b; }

@@ -15,8 +15,7 @@
 
 #include "engine.h"
 
-uint64_t *avr_profile_pc_cycles;
-uint32_t avr_profile_words;
+uint64_t avr_profile_pc_cycles[AVR_PROFILE_WORDS];
 
 static int report_fd = -1;
 static uint64_t sleep_cycles;
@@ -122,9 +121,9 @@ static int by_address(const void *a, const void *b) {
 
 void avr_profile_init(const char *path, const struct elf_firmware_t *firmware) {
   avr_t *avr = engine.avr;
-  avr_profile_words = (avr->flashend + 1) / 2;
-  avr_profile_pc_cycles = calloc(avr_profile_words, sizeof *avr_profile_pc_cycles);
-  if (!avr_profile_pc_cycles) engine_fatal("no memory for the engine's profile");
+  if ((avr->flashend + 1) / 2 != AVR_PROFILE_WORDS)
+    engine_fatal("the engine's profile counts an ATmega2560's %u flash words; this MCU has %u", AVR_PROFILE_WORDS,
+                 (unsigned)(avr->flashend + 1) / 2);
   for (uint8_t i = 0; i < avr->interrupts.vector_count; ++i) {
     avr_int_vector_t *v = avr->interrupts.vector[i];
     if (!v || v->vector >= 64) continue;
@@ -185,7 +184,7 @@ void avr_profile_write(void) {
   enum { TOP = 10 };
   struct function_total top[TOP];
   int tops = 0;
-  const uint32_t code_words = avr->codeend / 2 + 1 < avr_profile_words ? avr->codeend / 2 + 1 : avr_profile_words;
+  const uint32_t code_words = avr->codeend / 2 + 1 < AVR_PROFILE_WORDS ? avr->codeend / 2 + 1 : AVR_PROFILE_WORDS;
   for (uint32_t s = 0; s < symbol_count; ++s) {
     if (s + 1 < symbol_count && symbols[s + 1].addr == symbols[s].addr) continue; /* aliases: the last name */
     const uint32_t from = symbols[s].addr / 2;

@@ -25,11 +25,13 @@ uint64_t avr_profile_busy_cycles(void);
  * without warning, so the file must be current at any quantum's end). */
 void avr_profile_write(void);
 
-extern uint64_t *avr_profile_pc_cycles; /* per flash word */
-extern uint32_t avr_profile_words;
+/* Per word of the ATmega2560's 256 KiB of flash, at a fixed address: counted for every instruction,
+ * so no pointer or bound is loaded for it. A pc past the flash wraps, as the chip's does. */
+#define AVR_PROFILE_WORDS 0x20000u
+extern uint64_t avr_profile_pc_cycles[AVR_PROFILE_WORDS];
 
 static inline void avr_profile_count(uint32_t pc, uint64_t cycles) {
-  if ((pc >> 1) < avr_profile_words) avr_profile_pc_cycles[pc >> 1] += cycles;
+  avr_profile_pc_cycles[(pc >> 1) & (AVR_PROFILE_WORDS - 1)] += cycles;
 }
 
 #endif
