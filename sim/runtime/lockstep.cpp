@@ -34,7 +34,7 @@ void Lockstep::retire_robot(std::size_t robot) {
   }
 }
 
-bool Lockstep::step() {
+bool Lockstep::step(const std::function<void()>& alongside) {
   const std::int64_t t0 = sim_.time_ns();
   const std::int64_t t1 = t0 + sim_.step_ns();
   // Every firmware runs its quantum [t0, t1) in its own process, against sensors measured at t0,
@@ -45,6 +45,7 @@ bool Lockstep::step() {
   if (can_) can_->begin_quantum(sim_, t0, t1);
   for (std::size_t i = 0; i < bridges_.size(); ++i)
     if (running_[i]) bridges_[i]->begin_quantum(sim_.physics(), t0, t1);
+  if (alongside) alongside();
   sim_.step();
   bool stopped = false;
   for (std::size_t i = 0; i < bridges_.size(); ++i) {

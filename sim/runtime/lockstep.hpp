@@ -3,6 +3,7 @@
 // before left; this quantum's commands drive the next step.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,8 +37,10 @@ class Lockstep {
   Lockstep(Simulation& sim, const ProjectDesc& project, const LockstepOptions& options, McuListener& listener);
 
   // One quantum. False when an MCU stopped and the run should end (without keep_going), or when
-  // the run was asked to stop (stop_requested()) while a firmware had the turn.
-  bool step();
+  // the run was asked to stop (stop_requested()) while a firmware had the turn. `alongside`, if
+  // given, runs once every firmware has its turn and before the world steps: work that needs
+  // neither (the files of the step before) then costs the run no time while the firmware runs.
+  bool step(const std::function<void()>& alongside = {});
   // The robot left the world: its MCUs are shut down, their output ending now. Not an MCU stop:
   // the robot's event says why.
   void retire_robot(std::size_t robot);
