@@ -5,10 +5,12 @@
 // USART pins' frames.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
 
+#include "exporters/edge_streams.hpp"
 #include "exporters/pin_waveform.hpp"
 #include "command_output.hpp"
 #include "firmware_run.hpp"
@@ -346,6 +348,35 @@ TEST(Waveform, ItsPwmAndServoPinsAreTheBoardsOwn) {
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) {
     EXPECT_EQ(PinWaveform::has_pwm(pin), board_has_pwm(static_cast<std::uint8_t>(pin)) != 0) << pin;
     EXPECT_EQ(PinWaveform::has_servo(pin), board_has_servo(static_cast<std::uint8_t>(pin)) != 0) << pin;
+  }
+}
+
+// The capture's waveform takes a MCU's events and each UART line's edges as streams, merged: the
+// order must be what one stable sort of everything by time gives (ties in arrival order), also
+// for a change that comes earlier than its stream's last, and taken in pieces as the run's time
+// passes.
+TEST(Waveform, EdgeStreamsGiveOneOrderByTimeThenArrival) {
+  constexpr std::size_t kStreams = 9;
+  EdgeStreams streams(kStreams);
+  std::vector<sear_event> all;
+  std::uint32_t lcg = 12345;
+  std::int64_t t[kStreams] = {};
+  for (std::uint32_t id = 0; id < 3000; ++id) {
+    lcg = lcg * 1664525u + 1013904223u;
+    const std::size_t s = (lcg >> 8) % kStreams;
+    t[s] += (lcg >> 20) % 4;                                          // steps of 0..3 ns: many ties
+    const std::int64_t time = (lcg >> 12) % 50 == 0 ? t[s] - 7 : t[s];  // now and then, out of order
+    const sear_event e{time, id, SEAR_EVENT_PIN, 0, {0, 0}};
+    streams.push(s, e);
+    all.push_back(e);
+  }
+  std::stable_sort(all.begin(), all.end(), [](const sear_event& a, const sear_event& b) { return a.time_ns < b.time_ns; });
+  std::vector<sear_event> taken;
+  for (std::int64_t until = 0; taken.size() < all.size() && until < 100000; until += 97) streams.take_until(until, taken);
+  ASSERT_EQ(taken.size(), all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    ASSERT_EQ(taken[i].value, all[i].value) << "at " << i << ", time " << all[i].time_ns;
+    ASSERT_EQ(taken[i].time_ns, all[i].time_ns);
   }
 }
 

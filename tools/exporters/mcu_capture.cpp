@@ -145,21 +145,22 @@ void McuCapture::release(State& s, std::int64_t until_ns) {
 // times before the stop bit ends, then carries the data bits from the least significant, then
 // the stop bit (high); each bit's edge rounded to the nanosecond as the HAL rounds the byte's end.
 void McuCapture::queue_wave(State& s, const sear_event& e) {
-  s.wave_pending.push({e, s.wave_seq++});
+  s.wave_pending.push(0, e);
   if (e.index >= SEAR_LINK_UARTS) return;
   if (e.kind == SEAR_EVENT_UART_BEGIN) s.wave_baud[e.index] = e.value;
   if ((e.kind != SEAR_EVENT_UART_TX && e.kind != SEAR_EVENT_UART_RX) || !s.wave_baud[e.index]) return;
   const std::uint32_t baud = s.wave_baud[e.index];
-  const int pin = e.kind == SEAR_EVENT_UART_TX ? PinWaveform::uart_tx_pin(e.index) : PinWaveform::uart_rx_pin(e.index);
+  const bool tx = e.kind == SEAR_EVENT_UART_TX;
+  const int pin = tx ? PinWaveform::uart_tx_pin(e.index) : PinWaveform::uart_rx_pin(e.index);
+  const std::size_t line = 1 + 2 * std::size_t{e.index} + (tx ? 0 : 1);
   int shown = 1;  // idle
   for (int bit = 0; bit < 10; ++bit) {
     const int level = bit == 0 ? 0 : bit == 9 ? 1 : (e.value >> (bit - 1)) & 1;
     if (level == shown) continue;
     shown = level;
     const std::int64_t before_end = ((10 - bit) * std::int64_t{1000000000} + baud / 2) / baud;
-    s.wave_pending.push({{e.time_ns - before_end, static_cast<std::uint32_t>(level), PinWaveform::kLineLevel,
-                          static_cast<std::uint8_t>(pin), {0, 0}},
-                         s.wave_seq++});
+    s.wave_pending.push(line, {e.time_ns - before_end, static_cast<std::uint32_t>(level), PinWaveform::kLineLevel,
+                               static_cast<std::uint8_t>(pin), {0, 0}});
   }
 }
 
@@ -167,10 +168,7 @@ void McuCapture::queue_wave(State& s, const sear_event& e) {
 // the order they came in); at once, as the waveform looks ahead among them.
 void McuCapture::write_wave(State& s, std::int64_t until_ns) {
   s.wave_due.clear();
-  while (!s.wave_pending.empty() && s.wave_pending.top().e.time_ns <= until_ns) {
-    s.wave_due.push_back(s.wave_pending.top().e);
-    s.wave_pending.pop();
-  }
+  s.wave_pending.take_until(until_ns, s.wave_due);
   s.waveform->write(s.wave_due.data(), s.wave_due.size());
 }
 

@@ -12,11 +12,11 @@
 #include <cstdint>
 #include <map>
 #include <memory>
-#include <queue>
 #include <string>
 #include <vector>
 
 #include "exporters/bounded_file.hpp"
+#include "exporters/edge_streams.hpp"
 #include "exporters/pin_waveform.hpp"
 #include "runtime/mcu_bridge.hpp"
 
@@ -62,16 +62,6 @@ class McuCapture : public McuListener {
   struct PortFiles {
     std::unique_ptr<BoundedFile> raw_tx, raw_rx, text;
   };
-  struct WaveQueued {
-    sear_event e;
-    std::uint64_t seq;
-  };
-  // The earliest on top; of equal times the first to come (the order a stable sort keeps).
-  struct WaveLater {
-    bool operator()(const WaveQueued& a, const WaveQueued& b) const {
-      return a.e.time_ns != b.e.time_ns ? a.e.time_ns > b.e.time_ns : a.seq > b.seq;
-    }
-  };
   struct State {
     Mcu mcu;
     std::unique_ptr<BoundedFile> console, pins, values;
@@ -84,10 +74,9 @@ class McuCapture : public McuListener {
     std::map<int, std::string> never_sent;  // per port
     std::int64_t closed_ns = -1;            // when its wire stopped: -1 while it runs
     // Released to the waveform but not yet written: a byte's frame begins ten bits before the
-    // byte is stamped, so the waveform stays that far behind to keep its time in order. A heap:
-    // a 500 kbaud stream keeps some 10^4 edges waiting, too many to sort again every step.
-    std::priority_queue<WaveQueued, std::vector<WaveQueued>, WaveLater> wave_pending;
-    std::uint64_t wave_seq = 0;          // arrival order, for equal times
+    // byte is stamped, so the waveform stays that far behind to keep its time in order. The
+    // events are one stream, each UART line's edges another.
+    EdgeStreams wave_pending{1 + 2 * SEAR_LINK_UARTS};
     std::vector<sear_event> wave_due;    // what write_wave hands the waveform, kept for its capacity
     std::array<std::uint32_t, SEAR_LINK_UARTS> wave_baud{};
   };
