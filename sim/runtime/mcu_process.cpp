@@ -30,8 +30,8 @@ namespace {
 // Spin while the firmware runs a short quantum; sleep when it takes longer, so that the other
 // MCUs and the firmware itself get the cores. A firmware whose turns take longer than the shortest
 // spin (the AVR engine's quantum of 16 000 instructions is about 300 us) is waited for by spinning
-// up to twice its last turn: sleeping cost each of its turns the futex wake-up (tens of us on
-// these machines, 10-25 % of the avoider's speed on the AVR engine). The spin yields, so a peer
+// up to twice what its turns take: sleeping cost each of its turns the futex wake-up (tens of us
+// on these machines, 10-25 % of the avoider's speed on the AVR engine). The spin yields, so a peer
 // that needs this core still gets it.
 constexpr std::int64_t kSpinNs = 200'000;
 constexpr std::int64_t kSpinMaxNs = 2'000'000;
@@ -104,7 +104,7 @@ std::string describe(const McuHalt& h) {
 
 McuProcess::McuProcess(const std::string& executable, const std::string& host_log, const McuProcessOptions& options,
                        void (*setup)(sear_link&, const void*), const void* setup_context)
-    : hang_timeout_s_(options.hang_timeout_s), spin_ns_(kSpinNs) {
+    : hang_timeout_s_(options.hang_timeout_s), spin_ns_(kSpinNs), turn_floor_ns_(kSpinNs / 2) {
   sear_link_watch_init(&watch_, options.call_cost_ns);
   fd_ = memfd_create("sear-link", MFD_CLOEXEC);
   if (fd_ < 0 || ftruncate(fd_, sizeof(sear_link)) != 0)
@@ -360,7 +360,11 @@ McuProcess::Turn McuProcess::wait() {
   for (;;) {
     if (sear_handoff_wait(&link_->turn, SEAR_TURN_SIM, &link_->sim_waiting, spin_ns_, kCheckNs)) {
       const std::int64_t took = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - given_at_).count();
-      spin_ns_ = std::clamp(2 * took, kSpinNs, kSpinMaxNs);
+      // The turns' recent floor, which grows by half a step at most: one long turn (the firmware
+      // waited for a core) leaves it, and so the spin, where it was; turns that are all long raise
+      // it within a few. Spinning on for a firmware that waits for a core only keeps the core busy.
+      turn_floor_ns_ = std::min(took, turn_floor_ns_ + turn_floor_ns_ / 2);
+      spin_ns_ = std::clamp(2 * turn_floor_ns_, kSpinNs, kSpinMaxNs);
       char why[256];
       if (sear_link_check_turn(link_, 1, &watch_, &turn_, why, sizeof why) != 0) {
         corrupted(why);

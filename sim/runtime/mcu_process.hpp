@@ -106,6 +106,7 @@ class McuProcess {
   // When the turn went to the firmware, and how long to spin for it next time (see wait()).
   std::chrono::steady_clock::time_point given_at_{};
   std::int64_t spin_ns_;
+  std::int64_t turn_floor_ns_;
   std::vector<sear_event> events_;
   std::optional<McuFailure> failure_;
   std::optional<McuHalt> halt_;
