@@ -103,6 +103,34 @@ TEST(SerialWire, BackToBackFramesAtARoundedRateAreEachReadFromTheirStart) {
   EXPECT_EQ(wire.framing_errors(), 0u);
 }
 
+// A receiver begun in the middle of a stream at its own rate: 0x0F back to back at 9600, the
+// port begun 2.5 bits into the first frame. Bits of each frame: start 0, data 1 1 1 1 0 0 0 0,
+// stop 1. The line is high there (d0..d3) and falls at 5 bits (d4): a start edge, confirmed low at
+// 5.53. Its data are sampled at 6.53 (d5 0), 7.53 (d6 0), 8.53 (d7 0), 9.53 (stop 1), then in the
+// next frame 10.53 (start 0), 11.53 (d0 1), 12.53 (d1 1), 13.53 (d2 1): 0b11101000 = 0xE8, its
+// stop at 14.53 (d3 1), ending 10 bits after its edge, at 15 bits. The hunt resumes 9.59 bits
+// after the edge, 4.59 bits into the next frame, before its own fall at 5 bits: each frame is read
+// so, never as sent, as a chip's USART begun mid-stream would.
+TEST(SerialWire, APortBegunInTheMiddleOfAStreamAtItsRateReadsEachFrameFromItsFirstFall) {
+  const uint32_t baud = 9600;
+  const int64_t frame = serial_frame_ns(baud);
+  const int64_t first_start = 3000000;
+  constexpr int kFrames = 12;
+  SerialWire wire(false);
+  wire.set_receiver_baud(0, 0);
+  wire.set_receiver_baud(baud, bit_time(first_start, 2, baud) + (bit_time(first_start, 3, baud) - bit_time(first_start, 2, baud)) / 2);
+  for (int i = 0; i < kFrames; ++i) wire.send(byte_at(first_start + (i + 1) * frame, baud, 0x0F));
+  // Up to the last frame's start: frame i's byte ends 5 bits into frame i + 1, so the bytes of
+  // all frames but the last two are in.
+  const std::vector<serial_byte> got = receive_all(wire, first_start + (kFrames - 1) * frame);
+  ASSERT_EQ(got.size(), static_cast<size_t>(kFrames - 2));
+  for (int i = 0; i + 2 < kFrames; ++i) {
+    EXPECT_EQ(got[i].value, 0xE8) << i;
+    EXPECT_EQ(got[i].end_ns, bit_time(first_start + i * frame, 15, baud)) << i;
+  }
+  EXPECT_EQ(wire.framing_errors(), 0u);
+}
+
 // '5' (0x35) sent at 9600 and read at 19200. Sender bits, 104.17 us each (T): start 0, data
 // LSB first 1 0 1 0 1 1 0 0, stop 1. The receiver's bits are T/2; it samples 17/32 into each,
 // at (k/2 + 0.27) T from the start edge, i.e. twice per sender bit:

@@ -133,12 +133,18 @@ void SerialWire::decode(int64_t known_until_ns) {
     // starts once the receiver hunts again (every frame before it is over, so the line idles at
     // mark until its start bit), at the receiver's rate and in normal polarity. It is read as
     // sent, exactly as the search below would read it.
+    // Back-to-back bytes: the hunt resumes within the stop bit of the frame just read, whose
+    // line holds mark to its end, so the first frame with an edge left is the one after it.
     if (!inverted_) {
-      const auto next = std::upper_bound(frames_.begin(), frames_.end(), scan_from_ns_,
-                                         [](int64_t t, const Frame& f) { return t < f.end_ns; });
+      auto next = std::upper_bound(frames_.begin(), frames_.end(), scan_from_ns_,
+                                   [](int64_t t, const Frame& f) { return t < f.end_ns; });
+      if (next != frames_.end() && next->start_ns < scan_from_ns_ && scan_from_ns_ >= next->start_ns + bit_ns(9, next->baud))
+        ++next;
       if (next != frames_.end() && next->start_ns >= scan_from_ns_ && next->start_ns < known_until_ns &&
           baud_at(next->start_ns) == next->baud) {
-        ready_.push_back(serial_byte{next->end_ns, next->baud, next->value, {0, 0, 0}});
+        // Its end as the search's (its start edge plus a frame), also for a frame the sender
+        // started late, when the one before it ended.
+        ready_.push_back(serial_byte{next->start_ns + serial_frame_ns(next->baud), next->baud, next->value, {0, 0, 0}});
         scan_from_ns_ = next->start_ns + bit32_ns(kHuntAgain32, next->baud);
         continue;
       }
