@@ -118,7 +118,8 @@ TEST(SerialWire, APortBegunInTheMiddleOfAStreamAtItsRateReadsEachFrameFromItsFir
   constexpr int kFrames = 12;
   SerialWire wire(false);
   wire.set_receiver_baud(0, 0);
-  wire.set_receiver_baud(baud, bit_time(first_start, 2, baud) + (bit_time(first_start, 3, baud) - bit_time(first_start, 2, baud)) / 2);
+  const int64_t bit2 = bit_time(first_start, 2, baud), bit3 = bit_time(first_start, 3, baud);
+  wire.set_receiver_baud(baud, bit2 + (bit3 - bit2) / 2);
   for (int i = 0; i < kFrames; ++i) wire.send(byte_at(first_start + (i + 1) * frame, baud, 0x0F));
   // Up to the last frame's start: frame i's byte ends 5 bits into frame i + 1, so the bytes of
   // all frames but the last two are in.

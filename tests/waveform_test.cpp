@@ -370,9 +370,11 @@ TEST(Waveform, EdgeStreamsGiveOneOrderByTimeThenArrival) {
     streams.push(s, e);
     all.push_back(e);
   }
-  std::stable_sort(all.begin(), all.end(), [](const sear_event& a, const sear_event& b) { return a.time_ns < b.time_ns; });
+  std::stable_sort(all.begin(), all.end(),
+                   [](const sear_event& a, const sear_event& b) { return a.time_ns < b.time_ns; });
   std::vector<sear_event> taken;
-  for (std::int64_t until = 0; taken.size() < all.size() && until < 100000; until += 97) streams.take_until(until, taken);
+  for (std::int64_t until = 0; taken.size() < all.size() && until < 100000; until += 97)
+    streams.take_until(until, taken);
   ASSERT_EQ(taken.size(), all.size());
   for (std::size_t i = 0; i < all.size(); ++i) {
     ASSERT_EQ(taken[i].value, all[i].value) << "at " << i << ", time " << all[i].time_ns;

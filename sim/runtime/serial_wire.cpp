@@ -138,7 +138,8 @@ void SerialWire::decode(int64_t known_until_ns) {
     if (!inverted_) {
       auto next = std::upper_bound(frames_.begin(), frames_.end(), scan_from_ns_,
                                    [](int64_t t, const Frame& f) { return t < f.end_ns; });
-      if (next != frames_.end() && next->start_ns < scan_from_ns_ && scan_from_ns_ >= next->start_ns + bit_ns(9, next->baud))
+      if (next != frames_.end() && next->start_ns < scan_from_ns_ &&
+          scan_from_ns_ >= next->start_ns + bit_ns(9, next->baud))
         ++next;
       if (next != frames_.end() && next->start_ns >= scan_from_ns_ && next->start_ns < known_until_ns &&
           baud_at(next->start_ns) == next->baud) {
