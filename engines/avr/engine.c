@@ -205,7 +205,15 @@ static inline int step(avr_t *avr) {
     return avr->state;
   }
   avr_flashaddr_t new_pc = avr->pc;
-  if (avr->state == cpu_Running) new_pc = avr_run_one(avr);
+  if (avr->state == cpu_Running) {
+    new_pc = avr_run_one(avr);
+    /* Most instructions leave the chip running with no timer due and no interrupt pending. */
+    const avr_cycle_timer_slot_p first = avr->cycle_timers.timer;
+    if (__builtin_expect(avr->state == cpu_Running && !avr->interrupt_state && first && first->when > avr->cycle, 1)) {
+      avr->pc = new_pc;
+      return cpu_Running;
+    }
+  }
   const avr_cycle_timer_slot_p first = avr->cycle_timers.timer;
   avr_cycle_count_t sleep = 0;
   if (avr->state == cpu_Sleeping || (first && first->when <= avr->cycle)) sleep = avr_cycle_timer_process(avr);
