@@ -11,6 +11,7 @@
 #include <stddef.h>
 
 #include "board.h"
+#include "devices/uart_edges.h"
 #include "devices/uart_pins.h"
 #include "mcu.h"
 
@@ -29,12 +30,7 @@ static uint8_t listener = NO_LISTENER;
 
 /* The listener's receiver: the frame being decoded from its edges, and the ring. */
 static struct {
-  int in_frame;
-  int64_t start_ns;   /* the start bit's falling edge */
-  int next_bit;       /* the next bit to sample: 1..8 data, 9 stop */
-  uint8_t value;
-  int level;          /* the line's logic level since the last edge taken */
-  int64_t hunt_from_ns; /* a start edge counts from here on (after the last stop bit's sample) */
+  struct uart_edges line;
   uint8_t ring[HAL_SOFT_UART_BUFFER];
   uint8_t head, tail; /* as the library's: one slot stays empty */
   int overflow;
@@ -43,12 +39,6 @@ static struct {
 static void check_id(uint8_t id, const char *call) {
   if (id >= HAL_SOFT_UART_COUNT || !lines[id].open)
     mcu_fatal("%s(%u): no soft UART %u is open (soft_uart_begin() gives the id)", call, id, id);
-}
-
-/* Where bit j is sampled: its middle, from the start edge. */
-static int64_t sample_ns(int j) {
-  const uint32_t baud = lines[listener].baud;
-  return rx.start_ns + ((int64_t)(2 * j + 1) * 1000000000 + baud) / (2 * (int64_t)baud);
 }
 
 static void store(uint8_t byte) {
@@ -61,30 +51,17 @@ static void store(uint8_t byte) {
   rx.tail = next;
 }
 
-/* Samples every bit whose middle lies before until_ns: the line held rx.level there. A stop bit
- * sampled low (a framing error) still gives its byte, as the library does not look. */
+/* Stores every byte whose stop bit's middle lies before until_ns. A stop bit sampled low (a
+ * framing error) still gives its byte, as the library does not look. */
 static void sample_until(int64_t until_ns) {
-  while (rx.in_frame && sample_ns(rx.next_bit) < until_ns) {
-    if (rx.next_bit <= 8) {
-      rx.value |= (uint8_t)(rx.level << (rx.next_bit - 1));
-      rx.next_bit++;
-      continue;
-    }
-    rx.hunt_from_ns = sample_ns(9);
-    rx.in_frame = 0;
-    store(rx.value);
-  }
+  uint8_t byte;
+  int stop_level;
+  while (uart_edges_byte_before(&rx.line, until_ns, &byte, &stop_level)) store(byte);
 }
 
 static void take_edge(int64_t t_ns, int level) {
   sample_until(t_ns);
-  rx.level = level;
-  if (!rx.in_frame && level == 0 && t_ns >= rx.hunt_from_ns) {
-    rx.in_frame = 1;
-    rx.start_ns = t_ns;
-    rx.next_bit = 1;
-    rx.value = 0;
-  }
+  uart_edges_change(&rx.line, level, t_ns, lines[listener].baud);
 }
 
 static int logic_level(const struct soft_line *l) { return mcu_pin_level(l->rx_pin) ^ l->inverted; }
@@ -115,9 +92,7 @@ static void stop_listening(void) {
 static void start_listening(uint8_t id) {
   const struct soft_line *l = &lines[id];
   listener = id;
-  rx.in_frame = 0;
-  rx.level = logic_level(l);
-  rx.hunt_from_ns = 0;
+  uart_edges_init(&rx.line, logic_level(l));
   rx.head = rx.tail = 0;
   sear_mcu.pin_handler[l->rx_pin] = listener_edge;
   sear_mcu.pin_edges[l->rx_pin] = IRQ_CHANGE;

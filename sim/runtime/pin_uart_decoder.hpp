@@ -1,14 +1,13 @@
 // The receiver of a device wired to a soft UART's TX pin: decodes 8N1 bytes from the pin's level
-// changes, as a UART receiver would from the line. A start bit is a falling edge while idle; each
-// data bit and the stop bit are read at their middles counted from that edge; a low stop bit (a
-// framing error) still gives its byte, as an AVR USART delivers it; the next start edge counts
-// from the stop bit's middle on.
+// changes, as a UART receiver would from the line (devices/uart_edges.h reads the bits); a low
+// stop bit (a framing error) still gives its byte, as an AVR USART delivers it.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
 #include "devices/serial_byte.h"
+#include "devices/uart_edges.h"
 
 namespace sear {
 
@@ -26,17 +25,9 @@ class PinUartDecoder {
   std::uint64_t framing_errors() const { return framing_errors_; }
 
  private:
-  std::int64_t sample_ns(int bit) const;
-
   int invert_;
-  int level_;  // logic level since the last change
   std::uint32_t baud_ = 0;
-  bool in_frame_ = false;
-  std::uint32_t frame_baud_ = 0;
-  std::int64_t start_ns_ = 0;
-  int next_bit_ = 1;
-  std::uint8_t value_ = 0;
-  std::int64_t hunt_from_ns_ = INT64_MIN;
+  uart_edges line_;
   std::uint64_t framing_errors_ = 0;
 };
 
