@@ -136,6 +136,15 @@ constexpr std::int64_t kHaltNs = 5 * kCallNs;
 constexpr std::int64_t kFirstTickNs = 3 * kCallNs + 1'000'000;
 const std::string kHaltLine = "halting: every byte of this line leaves after the loop began.\n";
 
+// The run's summary holds exactly one halt, of rover.main at halt_ns, with its interrupts
+// "on" or "off".
+void expect_one_halt(const nlohmann::json& summary, std::int64_t halt_ns, const char* interrupts) {
+  ASSERT_EQ(summary["mcu_halts"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["mcu_halts"][0]["mcu"], "rover.main");
+  EXPECT_DOUBLE_EQ(summary["mcu_halts"][0]["sim_time_s"].get<double>(), static_cast<double>(halt_ns) * 1e-9);
+  EXPECT_EQ(summary["mcu_halts"][0]["interrupts"], interrupts);
+}
+
 // (time in ns, byte) of each "tx" line of a UART log ("S.NNNNNNNNN tx 4c").
 std::vector<std::pair<std::int64_t, int>> sent_bytes(const std::string& log) {
   std::vector<std::pair<std::int64_t, int>> bytes;
@@ -159,10 +168,7 @@ TEST(Halt, AnEndlessEmptyLoopHaltsTheMcuWhileItsTimerAndItsUartGoOnToTheRunsEnd)
   const auto summary = nlohmann::json::parse(run.file("summary.json"));
   EXPECT_EQ(summary["status"], "completed");
   EXPECT_TRUE(summary["mcu_stops"].empty());
-  ASSERT_EQ(summary["mcu_halts"].size(), 1u) << summary.dump();
-  EXPECT_EQ(summary["mcu_halts"][0]["mcu"], "rover.main");
-  EXPECT_DOUBLE_EQ(summary["mcu_halts"][0]["sim_time_s"].get<double>(), kHaltNs * 1e-9);
-  EXPECT_EQ(summary["mcu_halts"][0]["interrupts"], "on");
+  expect_one_halt(summary, kHaltNs, "on");
   EXPECT_NE(run.file("summary.txt").find("  mcu rover.main halted at sim time 0.000016 s"), std::string::npos);
 
   // Every byte of the line queued before the loop left, back to back at 9600 baud from the end of
@@ -206,9 +212,7 @@ TEST(Halt, WithInterruptsOffTheMcuHaltsAndItsTimerNeverRuns) {
             std::string::npos)
       << run.err;
   const auto summary = nlohmann::json::parse(run.file("summary.json"));
-  ASSERT_EQ(summary["mcu_halts"].size(), 1u) << summary.dump();
-  EXPECT_DOUBLE_EQ(summary["mcu_halts"][0]["sim_time_s"].get<double>(), (kHaltNs + kCallNs) * 1e-9);
-  EXPECT_EQ(summary["mcu_halts"][0]["interrupts"], "off");
+  expect_one_halt(summary, kHaltNs + kCallNs, "off");
   // Pin 13 went out LOW and no tick ever toggled it.
   EXPECT_EQ(vcd_changes(run.file("rover.main.pins.vcd"), vcd_id_of_pin(13)).size(), 2u);
 }
@@ -225,19 +229,14 @@ TEST(Halt, UnoptimisedTheEndlessEmptyLoopHaltsAtTheSameMoment) {
             std::string::npos)
       << run.err;
   const auto summary = nlohmann::json::parse(run.file("summary.json"));
-  ASSERT_EQ(summary["mcu_halts"].size(), 1u) << summary.dump();
-  EXPECT_DOUBLE_EQ(summary["mcu_halts"][0]["sim_time_s"].get<double>(), kHaltNs * 1e-9);
-  EXPECT_EQ(summary["mcu_halts"][0]["interrupts"], "on");
+  expect_one_halt(summary, kHaltNs, "on");
   // Its timer still ran: 49 ticks by 0.05 s (the 50th falls due 9.375 us after the end).
   EXPECT_EQ(vcd_changes(run.file("rover.main.pins.vcd"), vcd_id_of_pin(13)).size(), 2u + 49u);
 
   TempDir off_dir;
   const auto off = run_sear(off_dir, probe_project(HALT_IRQ_OFF_O0_PROBE, 0.05));
   ASSERT_EQ(off.exit_code, 0) << off.err;
-  const auto off_summary = nlohmann::json::parse(off.file("summary.json"));
-  ASSERT_EQ(off_summary["mcu_halts"].size(), 1u) << off_summary.dump();
-  EXPECT_DOUBLE_EQ(off_summary["mcu_halts"][0]["sim_time_s"].get<double>(), (kHaltNs + kCallNs) * 1e-9);
-  EXPECT_EQ(off_summary["mcu_halts"][0]["interrupts"], "off");
+  expect_one_halt(nlohmann::json::parse(off.file("summary.json")), kHaltNs + kCallNs, "off");
 }
 
 }  // namespace
