@@ -14,6 +14,13 @@ inline bool mega2560_has_pwm(int pin) { return (pin >= 2 && pin <= 13) || (pin >
 // The PWM pins as a person reads them in a message.
 inline const char* mega2560_pwm_pins() { return "2..13 and 44..46"; }
 
+// Pins with a pin-change interrupt (PCINT0..3 on 50..53, PCINT4..7 and 9..10 on 10..15, PCINT16..23
+// on A8..A15 = 62..69), the only ones a soft UART can receive on; hal/runtime/board.c keeps the same
+// table (board_has_pin_change), held equal by tests/board_pins_test.cpp.
+inline bool mega2560_has_pin_change(int pin) {
+  return (pin >= 10 && pin <= 15) || (pin >= 50 && pin <= 53) || (pin >= 62 && pin <= 69);
+}
+
 // The pins of the chip's own buses (datasheet table 1-1, the board's silkscreen): a device on a
 // bus is wired to them, and firmware that drives them (an AVR image setting up its SPI or USART)
 // drives that device, not a pin nobody is wired to.

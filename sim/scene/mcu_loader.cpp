@@ -72,8 +72,7 @@ bool read_soft_uart(ElementReader& r, const DeviceWire& w, DeviceDesc& d) {
   if (rx == tx) r.error(fmt::format("{}; RX and TX cannot be one pin", wanted));
   // The device's TX reaches the firmware only through a pin-change interrupt, as SoftwareSerial
   // receives on the Mega (hal/soft_uart.h): elsewhere nothing could ever be read.
-  const bool pin_change = (rx >= 10 && rx <= 15) || (rx >= 50 && rx <= 53) || (rx >= 62 && rx <= 69);
-  if (!pin_change)
+  if (!mega2560_has_pin_change(rx))
     r.error(fmt::format("<{}> '{}' \"{}\": RX pin {} has no pin-change interrupt; a soft UART receives on 10..15, "
                         "50..53 and A8..A15 (62..69) of the Mega 2560",
                         r.name(), w.attribute, text, rx));
