@@ -14,6 +14,7 @@
 #include <sim_interrupts.h>
 
 #include "engine.h"
+#include "straight_runs.h"
 
 uint64_t avr_profile_pc_cycles[AVR_PROFILE_WORDS];
 
@@ -164,6 +165,7 @@ void avr_profile_write(void) {
   size_t n = 0;
 #define OUT(...) n += (size_t)snprintf(text + n, n < sizeof text ? sizeof text - n : 0, __VA_ARGS__)
   const avr_t *avr = engine.avr;
+  avr_straight_settle();
   const uint64_t cycles = avr->cycle;
   const uint64_t busy = avr_profile_busy_cycles();
   OUT("{\n  \"engine\": \"avr\",\n  \"clock_hz\": %" PRIu64 ",\n  \"cycles\": %" PRIu64 ",\n  \"busy_cycles\": %" PRIu64

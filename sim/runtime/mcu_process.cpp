@@ -52,7 +52,8 @@ const char* const kCallNames[] = {SEAR_HAL_CALLS(SEAR_CALL_NAME)};
 
 // A firmware sees the same environment in every run, whatever the user's shell holds, so that
 // its stack (where the kernel copies the environment) sits at the same addresses. Only the
-// sanitizers' own settings pass, for sanitizer builds of the tests. Every symbol is bound at
+// sanitizers' own settings pass, for sanitizer builds of the tests, and the AVR engine's
+// SEAR_AVR_SINGLE_STEP (straight_runs.h), which changes none of its outputs. Every symbol is bound at
 // load, before the stack is painted (startup_memory.c): bound lazily, a function's first call
 // runs the dynamic linker's resolver, which saves the vector registers (XSAVEC) a few hundred
 // bytes below the caller, and whether the SSE state reads as in use there depends on the host's
@@ -61,7 +62,7 @@ std::vector<std::string> firmware_environment(bool eeprom) {
   std::vector<std::string> env{fmt::format("{}={}", SEAR_LINK_FD_ENV, kLinkFd), "LD_BIND_NOW=1",
                                fmt::format("{}={:010d}", SEAR_SIM_PID_ENV, getpid())};
   if (eeprom) env.push_back(fmt::format("{}={}", SEAR_EEPROM_FD_ENV, kEepromFd));
-  for (const char* name : {"ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS"})
+  for (const char* name : {"ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS", "SEAR_AVR_SINGLE_STEP"})
     if (const char* value = std::getenv(name)) env.push_back(fmt::format("{}={}", name, value));
   return env;
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
@@ -389,6 +390,58 @@ TEST(AvrEngine, TheSameRunTwiceGivesTheSameBytes) {
   ASSERT_EQ(b.exit_code, 0) << b.err;
   for (const char* file : {"rover.main.pins.vcd", "rover.main.console.log", "rover.main.uart0.log"})
     EXPECT_TRUE(a.file(file) == b.file(file)) << file << " differs between two runs";
+}
+
+// The engine hands simavr straight runs of instructions (engines/avr/straight_runs.h) and keeps
+// every observation exact: a run gives the same bytes as one instruction per call
+// (SEAR_AVR_SINGLE_STEP), in every file the run writes but the summary's wall-clock figures. The
+// reference rover's AVR build reaches every device kind (the LMS200 from 2 s, at 500 kbaud from 2.4 s, SPI,
+// TWI, pin-change and timer interrupts, the ADC); the avoider spends its cycles in delay loops
+// that take interrupts; both write the engine's profile (per-function cycles, interrupt latency,
+// interrupts-off stretches, the stack's low mark).
+class StraightRuns : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(StraightRuns, ChangeNoByteOfWhatTheRunWrites) {
+  const auto run = [](const char* single_step) {
+    TempDir dir;
+    if (single_step) setenv("SEAR_AVR_SINGLE_STEP", single_step, 1);
+    else unsetenv("SEAR_AVR_SINGLE_STEP");
+    const std::string cmd = std::string(SEAR_BINARY) + " run " SEAR_ASSET_DIR "/projects/" + GetParam() +
+                            " --engine avr --no-plots --quiet --duration 2.6 -o " + (dir.path() / "out").string() +
+                            " 2>" + (dir.path() / "err").string();
+    const int status = std::system(cmd.c_str());
+    unsetenv("SEAR_AVR_SINGLE_STEP");
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_file(dir.path() / "err");
+    std::map<std::string, std::string> files;
+    for (const auto& f : std::filesystem::directory_iterator(dir.path() / "out"))
+      if (f.path().filename().string().rfind("summary.", 0) != 0) files[f.path().filename().string()] = read_file(f.path());
+    return files;
+  };
+  const auto single = run("1"), runs = run(nullptr);
+  ASSERT_TRUE(single.count("rover.main.avr.json")) << "no engine report";
+  ASSERT_EQ(single.size(), runs.size());
+  for (const auto& [name, bytes] : single) {
+    ASSERT_TRUE(runs.count(name)) << name;
+    EXPECT_TRUE(runs.at(name) == bytes) << name << " differs with straight runs";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Projects, StraightRuns, ::testing::Values("default.xml", "avoider_hills.xml"));
+
+// What the projects above never do inside a straight run: turn interrupts off by a store to SREG
+// (OUT, not CLI) and move the stack pointer by stores to SPH:SPL (tests/avr/firmware/
+// sreg_sp_stores.c, from its second pass on). Interrupts are off for the ten NOPs and the SEI
+// after the store, one cycle each (instruction set manual); the stack's low mark is main's return
+// address (3 bytes on this 3-byte-PC part) and the 40 bytes it moves down. A run that went on past
+// either store saw 1 cycle and 3 bytes.
+TEST(AvrEngine, StoresToSregAndTheStackPointerAreSeenAtTheirCycleInAStraightRun) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("sreg_sp_stores.c")), "", 0.01), "--no-plots");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto report = nlohmann::json::parse(run.file("rover.main.avr.json"));
+  EXPECT_EQ(report["interrupts_off"]["longest_cycles"].get<int>(), 11) << report.dump();
+  EXPECT_EQ(report["interrupts_off"]["from"].get<std::string>().rfind("main+", 0), 0u) << report.dump();
+  EXPECT_EQ(report["stack"]["worst_depth_bytes"].get<int>(), 43) << report.dump();
 }
 
 // The bundled avoider's AVR build, unmodified, in its own world (assets/projects/avoider_hills.xml,
