@@ -8,6 +8,10 @@
 # The wall-clock figures follow the host's load (printed beside them); the host CPU seconds the run
 # took (sear and its MCU processes, user + system, mean per run) do much less, and give for the AVR engine
 # the simulated MHz per host CPU second.
+# Last, simavr on its own (bench/simavr_bare_bench: avr_run() on the avoider's AVR image from the
+# build, no lockstep, no devices), median of RUNS runs of DURATION simulated seconds: what this
+# host gives simavr's decoder at the moment, and the engine's simulated MHz per second as a share
+# of it, which the host's speed changes much less than either figure.
 # The timing loop is bench/timed_runs.sh's.
 #
 # Usage: bench/avr_engine_rtf.sh [path/to/sear]   (default: build-release/tools/sear, else build/tools/sear)
@@ -49,3 +53,13 @@ for engine in native avr; do
   fi
   printf '%-8s %10.2f %14s %8s %16s %10s %8s\n' "$engine" "$rtf" "$mhz" "$cpu_s" "$mhz_cpu" "$cpu" "$load"
 done
+bare=$(dirname "$sear")/../bench/simavr_bare_bench
+image=$(dirname "$sear")/../avr/firmware_examples/avoider.elf
+if [[ -x $bare && -f $image ]]; then
+  load=$(bench_load | cut -d' ' -f1)
+  bare_mhz=$(for ((i = 0; i < RUNS; ++i)); do "$bare" "$image" "$((DURATION * 16000000))" | tail -1; done | bench_median)
+  printf '%-8s %10s %14s %8s %16s %10s %8s\n' simavr - "$bare_mhz" - - - "$load"
+  awk -v e="$mhz" -v b="$bare_mhz" 'BEGIN { if (b > 0) printf "the AVR engine runs at %.2f times simavr'"'"'s own speed\n", e / b }'
+else
+  echo "(no $bare or $image: simavr on its own not measured)"
+fi

@@ -262,13 +262,21 @@ static void note_halt(uint64_t cycle) {
  * nor the I flag but in its last instruction (the hooks of straight_runs.c end it there), never
  * jumps to itself and never leaves the image, so the checks after it see what they would have
  * seen after each of its instructions; its cycles go to each instruction's own count. */
+/* The stack pointer from its two registers, each read as a byte: simavr stores them a byte at a
+ * time, and one 16-bit load of two bytes just stored waits for both stores to retire (a
+ * store-forwarding stall, the loop's costliest load in perf). */
+static inline uint16_t stack_pointer_of(const uint8_t *data) {
+  const volatile uint8_t *const bytes = data;
+  return (uint16_t)(bytes[R_SPL] | bytes[R_SPH] << 8);
+}
+
 static void run_to(uint64_t cycle) {
   avr_t *avr = engine.avr;
   set_slice_end(cycle);
   const uint8_t *const data = avr->data;
   const uint32_t code_end = engine.code_end;
   uint16_t lowest_sp = engine.lowest_sp;
-  uint16_t sp = (uint16_t)(data[R_SPL] | data[R_SPH] << 8);
+  uint16_t sp = stack_pointer_of(data);
   static uint8_t irq_seen; /* the I flag after the last instruction: reset clears it */
   uint8_t irq_on = irq_seen;
   while (avr->cycle < slice_end_cycle) {
@@ -286,7 +294,7 @@ static void run_to(uint64_t cycle) {
       run_cycles = avr_straight_plan(pc, first->when - before, code_end, &planned, &whole);
     uint32_t ran_to;
     const int state = step(avr, run_cycles, &ran_to);
-    sp = (uint16_t)(data[R_SPL] | data[R_SPH] << 8);
+    sp = stack_pointer_of(data);
     if (__builtin_expect(avr->pc == pc, 0) && was == cpu_Running && state == cpu_Running && sp == sp_before)
       note_halt(before);
     if (!run_cycles) {

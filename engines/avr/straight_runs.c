@@ -82,7 +82,9 @@ static void sreg_stored(struct avr_t *avr, avr_io_addr_t addr, uint8_t v, void *
 static void stack_pointer_stored(struct avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param) {
   (void)param;
   avr->data[addr] = v;
-  if ((uint16_t)(avr->data[R_SPL] | avr->data[R_SPH] << 8) < engine.lowest_sp) avr->run_cycle_count = 0;
+  /* From v, not from the byte just stored (which a 16-bit load would wait for). */
+  const uint16_t sp = addr == R_SPL ? (uint16_t)(v | avr->data[R_SPH] << 8) : (uint16_t)(avr->data[R_SPL] | v << 8);
+  if (sp < engine.lowest_sp) avr->run_cycle_count = 0;
 }
 
 uint64_t avr_straight_walk(uint32_t pc, uint64_t room, uint32_t code_end, uint32_t *end) {
