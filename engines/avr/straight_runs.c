@@ -83,7 +83,7 @@ static void stack_pointer_stored(struct avr_t *avr, avr_io_addr_t addr, uint8_t 
   (void)param;
   avr->data[addr] = v;
   /* From v, not from the byte just stored (which a 16-bit load would wait for). */
-  const uint16_t sp = addr == R_SPL ? (uint16_t)(v | avr->data[R_SPH] << 8) : (uint16_t)(avr->data[R_SPL] | v << 8);
+  const uint16_t sp = (uint16_t)(addr == R_SPL ? v | avr->data[R_SPH] << 8 : avr->data[R_SPL] | v << 8);
   if (sp < engine.lowest_sp) avr->run_cycle_count = 0;
 }
 
