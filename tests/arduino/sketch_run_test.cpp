@@ -283,28 +283,34 @@ TEST(SoftwareSerialSketch, TheRingHolds63BytesAndOneObjectListensAtATime) {
   EXPECT_NE(console.find(" 0 1 0\n"), std::string::npos) << console;
 }
 
-// The soft UART's RX pin must be one SoftwareSerial can receive on: the project is refused at
-// load, naming the file's line, the attribute and the pins that work.
-TEST(SoftwareSerialWiring, AnRxPinWithoutPinChangeIsRefusedWithTheLine) {
+// A soft wire the sketch could not use is refused at load, naming the file's line and the
+// attribute: an RX pin SoftwareSerial cannot receive on (no pin-change interrupt; the message
+// names the pins that work), and a wire without both pins, RX then TX, as SoftwareSerial(RX, TX)
+// takes them.
+struct BadSoftWire {
+  const char* uart;
+  const char* says;
+};
+
+class SoftwareSerialWiring : public ::testing::TestWithParam<BadSoftWire> {};
+
+TEST_P(SoftwareSerialWiring, IsRefusedWithTheLineAndWhy) {
   TempDir dir;
   const SearRun run = run_sketch(dir, "soft_bad", kForwardSoft,
-                                 "      <mtk3339 name=\"gps\" uart=\"soft:2,11\" pos=\"0 0 0.1\"/>\n", 0.1);
+                                 std::string("      <mtk3339 name=\"gps\" uart=\"") + GetParam().uart +
+                                     "\" pos=\"0 0 0.1\"/>\n",
+                                 0.1);
   EXPECT_NE(run.exit_code, 0);
   const std::string all = run.out + run.err;
   EXPECT_NE(all.find("project.xml:10: error"), std::string::npos) << all;  // the <mtk3339>'s line
-  EXPECT_NE(all.find("<mtk3339> 'uart' \"soft:2,11\": RX pin 2 has no pin-change interrupt"), std::string::npos) << all;
+  EXPECT_NE(all.find(GetParam().says), std::string::npos) << all;
 }
 
-// A soft wire names both pins, RX then TX, as SoftwareSerial(RX, TX) does.
-TEST(SoftwareSerialWiring, ASoftWireWithoutItsTxPinIsRefusedSayingTheForm) {
-  TempDir dir;
-  const SearRun run = run_sketch(dir, "soft_bad", kForwardSoft,
-                                 "      <mtk3339 name=\"gps\" uart=\"soft:10\" pos=\"0 0 0.1\"/>\n", 0.1);
-  EXPECT_NE(run.exit_code, 0);
-  const std::string all = run.out + run.err;
-  EXPECT_NE(all.find("project.xml:10: error"), std::string::npos) << all;
-  EXPECT_NE(all.find("<mtk3339> 'uart' \"soft:10\" must be soft:RX,TX"), std::string::npos) << all;
-}
+INSTANTIATE_TEST_SUITE_P(
+    Wires, SoftwareSerialWiring,
+    ::testing::Values(BadSoftWire{"soft:2,11", "<mtk3339> 'uart' \"soft:2,11\": RX pin 2 has no pin-change interrupt"},
+                      BadSoftWire{"soft:10", "<mtk3339> 'uart' \"soft:10\" must be soft:RX,TX"}),
+    case_name<BadSoftWire>);
 
 // `while (true);` at the end of loop(), the Arduino idiom for "stop here": the MCU halts there and
 // the run goes on to its end and exits 0. The line printed before it still leaves byte by byte at
