@@ -67,6 +67,7 @@ McuBridge::McuBridge(const McuDesc& desc, const WorldDesc& world, std::string id
   process.max_file_bytes = options.max_file_bytes;
   process.args = desc_.firmware_args;
   process.eeprom_file = desc_.eeprom_file;
+  if (desc_.engine == "avr") process.pass_env = {"SEAR_AVR_SINGLE_STEP"};  // engines/avr/straight_runs.h
   process_ = std::make_unique<McuProcess>(desc_.firmware_executable, host_log, process, &McuBridge::setup_link, this);
 }
 

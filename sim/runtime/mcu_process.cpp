@@ -52,18 +52,20 @@ const char* const kCallNames[] = {SEAR_HAL_CALLS(SEAR_CALL_NAME)};
 
 // A firmware sees the same environment in every run, whatever the user's shell holds, so that
 // its stack (where the kernel copies the environment) sits at the same addresses. Only the
-// sanitizers' own settings pass, for sanitizer builds of the tests, and the AVR engine's
-// SEAR_AVR_SINGLE_STEP (straight_runs.h), which changes none of its outputs. Every symbol is bound at
+// sanitizers' own settings pass, for sanitizer builds of the tests, and to an engine those it
+// asks for (McuProcessOptions::pass_env), which are no firmware's. Every symbol is bound at
 // load, before the stack is painted (startup_memory.c): bound lazily, a function's first call
 // runs the dynamic linker's resolver, which saves the vector registers (XSAVEC) a few hundred
 // bytes below the caller, and whether the SSE state reads as in use there depends on the host's
 // context switches, so those bytes differed between runs where uninitialised stack is read next.
-std::vector<std::string> firmware_environment(bool eeprom) {
+std::vector<std::string> firmware_environment(bool eeprom, const std::vector<std::string>& pass_env) {
   std::vector<std::string> env{fmt::format("{}={}", SEAR_LINK_FD_ENV, kLinkFd), "LD_BIND_NOW=1",
                                fmt::format("{}={:010d}", SEAR_SIM_PID_ENV, getpid())};
   if (eeprom) env.push_back(fmt::format("{}={}", SEAR_EEPROM_FD_ENV, kEepromFd));
-  for (const char* name : {"ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS", "SEAR_AVR_SINGLE_STEP"})
+  for (const char* name : {"ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS"})
     if (const char* value = std::getenv(name)) env.push_back(fmt::format("{}={}", name, value));
+  for (const std::string& name : pass_env)
+    if (const char* value = std::getenv(name.c_str())) env.push_back(fmt::format("{}={}", name, value));
   return env;
 }
 
@@ -149,7 +151,7 @@ void McuProcess::spawn(const std::string& executable, const std::string& host_lo
   }
   stdout_fd_ = out;
   // Everything the child needs is prepared here: after fork() it may only make system calls.
-  const std::vector<std::string> env_text = firmware_environment(eeprom);
+  const std::vector<std::string> env_text = firmware_environment(eeprom, options.pass_env);
   std::vector<char*> env;
   for (const auto& e : env_text) env.push_back(const_cast<char*>(e.c_str()));
   env.push_back(nullptr);

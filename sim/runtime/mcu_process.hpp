@@ -48,6 +48,7 @@ struct McuProcessOptions {
   std::uint64_t max_file_bytes = UINT64_MAX;   // the most the firmware may write to any one file
   std::vector<std::string> args;               // after its name: an engine's own arguments (engines/avr)
   std::string eeprom_file;                     // kept EEPROM (SEAR_EEPROM_FD_ENV), created if missing; empty: none
+  std::vector<std::string> pass_env;           // the simulator's variables it gets too, if set (an engine's own)
 };
 
 class McuProcess {
