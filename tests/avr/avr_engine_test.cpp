@@ -710,7 +710,13 @@ INSTANTIATE_TEST_SUITE_P(
                 "int main(void) { return deep(0); }\n",
                 "stack ran into .bss"},
         // The watchdog at its shortest (15 ms, datasheet table 12-2) and never reset.
-        Hostile{"#include <avr/wdt.h>\nint main(void) { wdt_enable(WDTO_15MS); for (;;) {} }\n", "reset"}),
+        Hostile{"#include <avr/wdt.h>\nint main(void) { wdt_enable(WDTO_15MS); for (;;) {} }\n", "reset"},
+        // A read past RAMEND (0x21FF) by an LD the engine already runs inside a straight run (200
+        // passes read a global first): reported as the chip's crash, with simavr's reason.
+        Hostile{"#include <stdint.h>\nvolatile uint8_t sink, other;\nvolatile uint8_t *volatile p = &other;\n"
+                "int main(void) { for (uint8_t i = 0;; ++i) { if (i == 200) p = (volatile uint8_t *)0x3000;\n"
+                "  volatile uint8_t *q = p; sink = *q; sink = i; } }\n",
+                "Address 3000 out of ram"}),
     case_name<Hostile>);
 
 // Random bytes as flash: whatever they decode to, the run ends by itself, a chip that fails says
