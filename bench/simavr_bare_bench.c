@@ -1,11 +1,11 @@
 /* simavr on its own, as the reference for the AVR engine's speed: an AVR image run on libsimavr's
  * ATmega2560 with avr_run() and nothing else (no lockstep, no devices, no profile), for a number
- * of cycles, timed on the host's clock. The timers' phase-correct modes are defined as the engine
- * defines them (engines/avr/timer_modes.c): left undefined, simavr 1.6 raises interrupt flags
- * every 64 cycles and measures that instead of its decoder. Its simulated MHz per second is what this host gives
+ * of cycles, timed on the host's clock. Its simulated MHz per second is what this host gives
  * simavr's decoder at the moment; bench/avr_engine_rtf.sh prints it beside the engine's, so that
- * the engine's speed can be read against the host's. Like the engine, the CPU never sleeps on the
- * host's clock and disabled level-triggered external interrupts are not polled (simavr #465).
+ * the engine's speed can be read against the host's. As in the engine, the CPU never sleeps on
+ * the host's clock, disabled level-triggered external interrupts are not polled (simavr #465),
+ * and the timers' phase-correct modes are defined (engines/avr/timer_modes.c): left undefined,
+ * simavr 1.6 raises interrupt flags every 64 cycles and this would measure that, not its decoder.
  *
  * Usage: simavr_bare_bench IMAGE.elf [CYCLES]   (default 160e6, 10 s at 16 MHz) */
 #define _POSIX_C_SOURCE 200809L

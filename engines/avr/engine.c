@@ -255,13 +255,6 @@ static void note_halt(uint64_t cycle) {
   link->halt = engine.avr->sreg[S_I] ? SEAR_HALT_EMPTY_LOOP : SEAR_HALT_EMPTY_LOOP_IRQ_OFF;
 }
 
-/* Runs per instruction or straight run: what it checks beyond step() is kept in registers where
- * nothing else changes it (the data space is allocated once; only this loop moves the lowest
- * stack pointer and the I flag it last saw), and the stack pointer is read once (the one after
- * an instruction is the one before the next). A straight run changes neither the stack pointer
- * nor the I flag but in its last instruction (the hooks of straight_runs.c end it there), never
- * jumps to itself and never leaves the image, so the checks after it see what they would have
- * seen after each of its instructions; its cycles go to each instruction's own count. */
 /* The stack pointer from its two registers, each read as a byte: simavr stores them a byte at a
  * time, and one 16-bit load of two bytes just stored waits for both stores to retire (a
  * store-forwarding stall, the loop's costliest load in perf). */
@@ -270,6 +263,13 @@ static inline uint16_t stack_pointer_of(const uint8_t *data) {
   return (uint16_t)(bytes[R_SPL] | bytes[R_SPH] << 8);
 }
 
+/* Runs per instruction or straight run: what it checks beyond step() is kept in registers where
+ * nothing else changes it (the data space is allocated once; only this loop moves the lowest
+ * stack pointer and the I flag it last saw), and the stack pointer is read once (the one after
+ * an instruction is the one before the next). A straight run takes the stack to a new low or
+ * changes the I flag only in its last instruction (the hooks of straight_runs.c end it there),
+ * never jumps to itself and never leaves the image, so the checks after it see what they would
+ * have seen after each of its instructions; its cycles go to each instruction's own count. */
 static void run_to(uint64_t cycle) {
   avr_t *avr = engine.avr;
   set_slice_end(cycle);

@@ -28,10 +28,10 @@ extern struct straight_run avr_straight_runs[AVR_PROFILE_WORDS];
 
 /* Classifies the image's flash and hooks the writes that end a run after their instruction (to
  * SREG, and to SPL or SPH taking the stack pointer to a new low), so that the I flag and the
- * stack's low mark are seen as between single instructions. Returns 0,
- * and leaves every word 0, when runs cannot be trusted: an image with SPM (the flash could
- * change under the table), SEAR_AVR_SINGLE_STEP set (the reference the runs are tested
- * against), or those registers already hooked by someone else. */
+ * stack's low mark are seen as between single instructions. Returns 0, and leaves every word 0,
+ * when runs cannot be trusted: an image with SPM (the flash could change under the table),
+ * SEAR_AVR_SINGLE_STEP set (the reference the runs are tested against), or those registers
+ * already hooked by someone else. */
 int avr_straight_init(uint32_t code_end);
 
 /* Adds the cycles of the whole runs counted so far to the profile's per-word counts. */
@@ -44,7 +44,7 @@ static inline uint32_t avr_straight_next(uint32_t pc, uint8_t kind) {
 }
 
 /* Walks the instructions known to be straight from pc until `room` cycles are reached: their
- * cycles, and in `*end` the pc after them. */
+ * cycles, and in `*end` the pc after them. The whole run from pc, once known, is kept. */
 uint64_t avr_straight_walk(uint32_t pc, uint64_t room, uint32_t code_end, uint32_t *end);
 
 /* The run to hand simavr from pc within `room` cycles (0: pc's instruction runs on its own):
