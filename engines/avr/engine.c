@@ -286,12 +286,17 @@ static void run_to(uint64_t cycle) {
     const int was = avr->state;
     /* The slice's end is a cycle timer, so the first timer bounds the run: it stops at the
      * instruction that reaches it, where one-by-one stepping would process it. */
+    /* Most instructions are known by now: straight ones with their cycles learned, and the
+     * rest, which run on their own after no more than this look. */
+    const uint8_t kind = avr_straight[avr_straight_word(pc)];
     uint64_t run_cycles = 0;
     uint32_t planned = pc;
     int whole = 0;
-    const avr_cycle_timer_slot_p first = avr->cycle_timers.timer;
-    if (was == cpu_Running && !avr->interrupt_state && first && first->when > before && avr->run == avr_callback_run_raw)
-      run_cycles = avr_straight_plan(pc, first->when - before, code_end, &planned, &whole);
+    if (kind & STRAIGHT_CYCLES) {
+      const avr_cycle_timer_slot_p first = avr->cycle_timers.timer;
+      if (was == cpu_Running && !avr->interrupt_state && first && first->when > before && avr->run == avr_callback_run_raw)
+        run_cycles = avr_straight_plan(pc, first->when - before, code_end, &planned, &whole);
+    }
     uint32_t ran_to;
     const int state = step(avr, run_cycles, &ran_to);
     sp = stack_pointer_of(data);
@@ -299,7 +304,8 @@ static void run_to(uint64_t cycle) {
       note_halt(before);
     if (!run_cycles) {
       avr_profile_count(pc, avr->cycle - before);
-      if (was == cpu_Running && ran_to == avr->pc) avr_straight_learn(pc, avr->cycle - before);
+      if (__builtin_expect(kind & STRAIGHT_UNSEEN, 0) && was == cpu_Running && ran_to == avr->pc)
+        avr_straight_learn(pc, avr->cycle - before);
     } else if (__builtin_expect(whole && ran_to == planned && avr->cycle - before == run_cycles, 1)) {
       avr_straight_runs[avr_straight_word(pc)].times++;
     } else {

@@ -47,8 +47,8 @@ static inline uint32_t avr_straight_next(uint32_t pc, uint8_t kind) {
  * cycles, and in `*end` the pc after them. The whole run from pc, once known, is kept. */
 uint64_t avr_straight_walk(uint32_t pc, uint64_t room, uint32_t code_end, uint32_t *end);
 
-/* The run to hand simavr from pc within `room` cycles (0: pc's instruction runs on its own):
- * the whole run when it fits (`*whole` set), else as much of it as reaches `room`. */
+/* The run to hand simavr from pc, whose instruction is straight and known, within `room`
+ * cycles: the whole run when it fits (`*whole` set), else as much of it as reaches `room`. */
 static inline uint64_t avr_straight_plan(uint32_t pc, uint64_t room, uint32_t code_end, uint32_t *end, int *whole) {
   const struct straight_run *run = &avr_straight_runs[avr_straight_word(pc)];
   if (run->cycles && run->cycles <= room) {
@@ -57,7 +57,6 @@ static inline uint64_t avr_straight_plan(uint32_t pc, uint64_t room, uint32_t co
     return run->cycles;
   }
   *whole = 0;
-  if (!(avr_straight[avr_straight_word(pc)] & STRAIGHT_CYCLES)) return 0;
   return avr_straight_walk(pc, room, code_end, end);
 }
 
