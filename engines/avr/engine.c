@@ -146,8 +146,12 @@ void board_device_event_at(int64_t t_ns) {
   if (c < slice_end_cycle) set_slice_end(c > engine.avr->cycle ? c : engine.avr->cycle + 1);
 }
 
-static uint16_t stack_pointer(void) {
-  return (uint16_t)(engine.avr->data[R_SPL] | engine.avr->data[R_SPH] << 8);
+/* The stack pointer from its two registers, each read as a byte: simavr stores them a byte at a
+ * time, and one 16-bit load of two bytes just stored waits for both stores to retire (a
+ * store-forwarding stall, the loop's costliest load in perf). */
+static inline uint16_t stack_pointer_of(const uint8_t *data) {
+  const volatile uint8_t *const bytes = data;
+  return (uint16_t)(bytes[R_SPL] | bytes[R_SPH] << 8);
 }
 
 /* What the chip did when simavr stopped it, in the chip's terms. simavr stops the core on a
@@ -162,8 +166,9 @@ static void check_state(int state) {
   if (pc >= avr->codeend)
     engine_fatal("the ATmega2560 jumped into nowhere: pc 0x%05x is past the program's end at 0x%05x (cycle %" PRIu64 ")",
                  pc, (unsigned)avr->codeend, cycle);
-  if (stack_pointer() > avr->ramend)
-    engine_fatal("the ATmega2560's stack pointer 0x%04x is past RAMEND 0x%04x (cycle %" PRIu64 ")", stack_pointer(),
+  const uint16_t sp = stack_pointer_of(avr->data);
+  if (sp > avr->ramend)
+    engine_fatal("the ATmega2560's stack pointer 0x%04x is past RAMEND 0x%04x (cycle %" PRIu64 ")", sp,
                  (unsigned)avr->ramend, cycle);
   if (pc == 0)
     engine_fatal("the ATmega2560 reset itself (a jump to the reset vector, or its watchdog) at cycle %" PRIu64, cycle);
@@ -255,14 +260,6 @@ static void note_halt(uint64_t cycle) {
   link->halt = engine.avr->sreg[S_I] ? SEAR_HALT_EMPTY_LOOP : SEAR_HALT_EMPTY_LOOP_IRQ_OFF;
 }
 
-/* The stack pointer from its two registers, each read as a byte: simavr stores them a byte at a
- * time, and one 16-bit load of two bytes just stored waits for both stores to retire (a
- * store-forwarding stall, the loop's costliest load in perf). */
-static inline uint16_t stack_pointer_of(const uint8_t *data) {
-  const volatile uint8_t *const bytes = data;
-  return (uint16_t)(bytes[R_SPL] | bytes[R_SPH] << 8);
-}
-
 /* Runs per instruction or straight run: what it checks beyond step() is kept in registers where
  * nothing else changes it (the data space is allocated once; only this loop moves the lowest
  * stack pointer and the I flag it last saw), and the stack pointer is read once (the one after
@@ -284,8 +281,6 @@ static void run_to(uint64_t cycle) {
     const uint64_t before = avr->cycle;
     const uint16_t sp_before = sp;
     const int was = avr->state;
-    /* The slice's end is a cycle timer, so the first timer bounds the run: it stops at the
-     * instruction that reaches it, where one-by-one stepping would process it. */
     /* Most instructions are known by now: straight ones with their cycles learned, and the
      * rest, which run on their own after no more than this look. */
     const uint8_t kind = avr_straight[avr_straight_word(pc)];
@@ -293,6 +288,8 @@ static void run_to(uint64_t cycle) {
     uint32_t planned = pc;
     int whole = 0;
     if (kind & STRAIGHT_CYCLES) {
+      /* The slice's end is a cycle timer, so the first timer bounds the run: it stops at the
+       * instruction that reaches it, where one-by-one stepping would process it. */
       const avr_cycle_timer_slot_p first = avr->cycle_timers.timer;
       if (was == cpu_Running && !avr->interrupt_state && first && first->when > before && avr->run == avr_callback_run_raw)
         run_cycles = avr_straight_plan(pc, first->when - before, code_end, &planned, &whole);
@@ -310,7 +307,7 @@ static void run_to(uint64_t cycle) {
       avr_straight_runs[avr_straight_word(pc)].times++;
     } else {
       /* A chip that crashed inside the run (a data address past RAM) is check_state()'s. */
-      const uint64_t counted = avr_straight_count_part(pc, ran_to, planned);
+      const uint64_t counted = avr_straight_count(pc, ran_to, planned, 1);
       if (state == cpu_Running && (counted != avr->cycle - before || ran_to > planned))
         engine_fatal("the engine lost count in a straight run from pc 0x%05x to 0x%05x: %" PRIu64
                      " cycles counted, %" PRIu64 " run (SEAR_AVR_SINGLE_STEP=1 runs without them)",

@@ -123,11 +123,11 @@ uint64_t avr_straight_walk(uint32_t pc, uint64_t room, uint32_t code_end, uint32
   return cycles;
 }
 
-uint64_t avr_straight_count_part(uint32_t pc, uint32_t ran_to, uint32_t end) {
+uint64_t avr_straight_count(uint32_t pc, uint32_t ran_to, uint32_t end, uint64_t times) {
   uint64_t counted = 0;
   for (uint32_t at = pc; at != ran_to && at < end;) {
     const uint8_t kind = avr_straight[avr_straight_word(at)];
-    avr_profile_count(at, kind & STRAIGHT_CYCLES);
+    avr_profile_count(at, times * (kind & STRAIGHT_CYCLES));
     counted += kind & STRAIGHT_CYCLES;
     at = avr_straight_next(at, kind);
   }
@@ -139,11 +139,7 @@ void avr_straight_settle(void) {
     struct straight_run *run = &avr_straight_runs[run_words[i]];
     if (!run->times) continue;
     const uint32_t from = run_words[i] * 2u;
-    for (uint32_t at = from; at < from + run->bytes;) {
-      const uint8_t kind = avr_straight[avr_straight_word(at)];
-      avr_profile_count(at, (uint64_t)run->times * (kind & STRAIGHT_CYCLES));
-      at = avr_straight_next(at, kind);
-    }
+    avr_straight_count(from, from + run->bytes, from + run->bytes, run->times);
     run->times = 0;
   }
 }

@@ -68,8 +68,8 @@ static inline void avr_straight_learn(uint32_t pc, uint64_t cycles) {
     *kind = (uint8_t)((*kind & STRAIGHT_TWO_WORDS) | cycles);
 }
 
-/* A run from pc ran to `ran_to` (not past `end`, where it was planned to stop): each
- * instruction's cycles go to the profile. Returns the cycles counted. */
-uint64_t avr_straight_count_part(uint32_t pc, uint32_t ran_to, uint32_t end);
+/* A run from pc ran to `ran_to` `times` times (not past `end`, where it was planned to stop):
+ * each instruction's cycles go to the profile. Returns the cycles of one time. */
+uint64_t avr_straight_count(uint32_t pc, uint32_t ran_to, uint32_t end, uint64_t times);
 
 #endif
