@@ -484,6 +484,72 @@ TEST(RangeSensorFastPath, SingleRaysAndBundlesFindWhatEveryGeomTestedAlongEveryR
   }
 }
 
+// Sonar cones (an echo only from a surface struck within max_incidence of its normal): the
+// nearest echo over all their rays, each ray's echo decided by its own nearest surface, static or
+// moving, through the reference. The draw puts many cones near the crates and the rover, whose
+// moving bodies the fast path asks about on every ray, also on those whose static surfaces lie
+// beyond an echo already found.
+TEST(RangeSensorFastPath, SonarConesEchoFromWhatEveryGeomTestedAlongEveryRayFinds) {
+  const DefaultWorld world(0.3);
+  const PhysicsWorld& physics = world.sim.physics();
+  RayDraw draw(world);
+  std::vector<dGeomID> moving_geoms;
+  brute_force_into(physics.dynamic_space(), moving_geoms);
+  std::vector<int> moving;  // entities
+  for (dGeomID g : moving_geoms) moving.push_back(static_cast<const GeomTag*>(dGeomGetData(g))->entity);
+  // What a ray sees: a wheel's tread sphere meets only the ground, the ray its tyre.
+  std::vector<dGeomID> geoms;
+  brute_force_into(physics.static_space(), geoms);
+  brute_force_into(physics.dynamic_space(), geoms);
+  geoms.erase(std::remove_if(geoms.begin(), geoms.end(),
+                             [](dGeomID g) {
+                               return static_cast<const GeomTag*>(dGeomGetData(g))->role == GeomRole::Tread;
+                             }),
+              geoms.end());
+  int echoes = 0, from_moving = 0;
+  for (int i = 0; i < 240; ++i) {
+    Eigen::Vector3d origin = draw.origin(), dir = draw.direction();
+    double range = draw.range();
+    if (i % 2) {  // at a moving body, from 0.3 to 2.5 m away, a sonar's height above the ground
+      const dReal* at = dGeomGetPosition(moving_geoms[static_cast<std::size_t>(i / 2) % moving_geoms.size()]);
+      const double away = 0.3 + 2.2 * draw.uniform(draw.random), bearing = 2 * M_PI * draw.uniform(draw.random);
+      origin = {at[0] + away * std::cos(bearing), at[1] + away * std::sin(bearing), 0};
+      origin.z() = physics.terrain_height(origin.x(), origin.y(), 0.0) + 0.05 + 0.25 * draw.uniform(draw.random);
+      dir = (Eigen::Vector3d(at[0], at[1], at[2]) - origin).normalized();
+      range = 4.5;
+    }
+    RangeBeam beam = beam_at({0, 0, 0}, 0, 0, range, 2 + 15 * draw.uniform(draw.random));
+    beam.resolution_rad = 2 * kDeg;
+    beam.max_incidence_rad = (20 + 50 * draw.uniform(draw.random)) * kDeg;
+    const int ignore = i % 4 == 0 ? world.sim.robot(0).entity() : -1;
+    const RangeSensor sensor(beam);
+    const Eigen::Matrix3d mount = yaw_pitch(dir);
+    const RangeReading fast = sensor.measure(physics, origin, mount, ignore);
+    RangeReading slow;
+    slow.distance_m = beam.max_range_m;
+    for (const auto& d : sensor.directions()) {
+      const Eigen::Vector3d ray = mount * d;
+      const RayHit h = test::ode_closest_hit(geoms, origin, ray, beam.max_range_m, ignore);
+      if (!h.hit || std::abs(h.normal_m.dot(ray)) < std::cos(beam.max_incidence_rad)) continue;
+      if (!slow.hit || h.distance_m < slow.distance_m) {
+        slow.hit = true;
+        slow.distance_m = h.distance_m;
+        slow.entity = h.entity;
+      }
+    }
+    ASSERT_EQ(fast.hit, slow.hit) << i;
+    // The same contacts of ODE's colliders, the fast path's rays cut short at the best so far.
+    EXPECT_NEAR(fast.distance_m, slow.distance_m, 1e-9) << i;
+    EXPECT_EQ(fast.entity, slow.entity) << i;
+    echoes += fast.hit;
+    from_moving += fast.hit && std::find(moving.begin(), moving.end(), fast.entity) != moving.end();
+  }
+  // Enough of each for the comparison to mean something.
+  EXPECT_GT(echoes, 100);
+  EXPECT_GT(from_moving, 20);
+  std::printf("sonar cones: %d echoes, %d from moving bodies\n", echoes, from_moving);
+}
+
 TEST(RangeSensorFastPath, ASetOfBeamsHitsExactlyWhenOneOfItsSensorsDoes) {
   const DefaultWorld world(0.3);
   const PhysicsWorld& physics = world.sim.physics();

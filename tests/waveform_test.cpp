@@ -382,5 +382,30 @@ TEST(Waveform, EdgeStreamsGiveOneOrderByTimeThenArrival) {
   }
 }
 
+// The waveform hands its file half a kilobyte of lines at a time: at the size limit the lines of
+// such a write that fit still go in, whole, before the note; a binary file (no note) takes no part
+// of the write that would cross its limit. Both stay within the limit.
+TEST(Waveform, AFileAtItsLimitKeepsTheWholeLinesOfAWriteThatFit) {
+  TempDir dir;
+  const auto text = dir.path() / "text.vcd", binary = dir.path() / "raw.bin";
+  const std::string note = "$comment cut $end\n";  // 18 bytes: room for 61 - 18 = 43 before it
+  std::string lines;                                 // 8 changes of 6 bytes: 48
+  for (int t = 2; t <= 9; ++t) lines += "#" + std::to_string(t) + "\n" + (t % 2 ? "1!\n" : "0!\n");
+  {
+    BoundedFile t(text.string(), 61, note), b(binary.string(), 8, "");
+    t.write("#1\n1!\n");  // 6
+    t.write(lines);        // 37 bytes of room left: 12 whole lines (36), not the 13th's first byte
+    t.write("#10\n");
+    b.write("12345");
+    b.write("6789");
+    EXPECT_TRUE(t.truncated());
+    EXPECT_TRUE(b.truncated());
+  }
+  const std::string got = read_file(text);
+  EXPECT_EQ(got, "#1\n1!\n" + lines.substr(0, 36) + note);
+  EXPECT_LE(got.size(), 61u);
+  EXPECT_EQ(read_file(binary), "12345");
+}
+
 }  // namespace
 }  // namespace sear::test

@@ -27,10 +27,13 @@ class BoundedFile {
   bool truncated() const { return dropped_ > 0; }
 
  private:
+  void spill();  // the buffer to the file
+
   static constexpr std::size_t kBufferBytes = 64 * 1024;
   std::string path_;
-  std::unique_ptr<char[]> buffer_;  // outlives file_: declared before it, closed in the destructor
-  std::FILE* file_ = nullptr;
+  std::unique_ptr<char[]> buffer_;  // bytes written but not yet handed to file_
+  std::size_t buffered_ = 0;
+  std::FILE* file_ = nullptr;       // unbuffered: every fwrite is a write(2)
   std::uint64_t limit_;
   std::string note_;
   std::uint64_t written_ = 0;

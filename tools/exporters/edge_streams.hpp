@@ -4,7 +4,7 @@
 #pragma once
 
 #include <cstdint>
-#include <deque>
+#include <stdexcept>
 #include <vector>
 
 #include "lockstep_link.h"
@@ -16,7 +16,9 @@ namespace sear {
 // simulator time. A change that comes earlier than its stream's last is put in its place.
 class EdgeStreams {
  public:
-  explicit EdgeStreams(std::size_t streams) : streams_(streams) {}
+  // At most 64 streams (a bit each in waiting_).
+  explicit EdgeStreams(std::size_t streams)
+      : streams_(streams <= 64 ? streams : throw std::invalid_argument("EdgeStreams: more than 64 streams")) {}
 
   void push(std::size_t stream, const sear_event& e);
   // Appends every change at or before until_ns to `out`, in order, and forgets it.
@@ -27,7 +29,12 @@ class EdgeStreams {
     sear_event e;
     std::uint64_t seq;  // arrival
   };
-  std::vector<std::deque<Queued>> streams_;
+  struct Stream {
+    std::vector<Queued> items;
+    std::size_t head = 0;  // items before it were handed on
+  };
+  std::vector<Stream> streams_;
+  std::uint64_t waiting_ = 0;  // bit n: stream n has changes not handed on (a run's 17 are mostly empty)
   std::uint64_t seq_ = 0;
 };
 

@@ -147,9 +147,14 @@ void McuCapture::release(State& s, std::int64_t until_ns) {
 void McuCapture::queue_wave(State& s, const sear_event& e) {
   s.wave_pending.push(0, e);
   if (e.index >= SEAR_LINK_UARTS) return;
-  if (e.kind == SEAR_EVENT_UART_BEGIN) s.wave_baud[e.index] = e.value;
+  std::array<std::int64_t, 10>& before_end = s.wave_before_end[e.index];
+  if (e.kind == SEAR_EVENT_UART_BEGIN) {
+    s.wave_baud[e.index] = e.value;
+    // Worked out once a baud rate rather than with a division for every edge.
+    for (int bit = 0; bit < 10 && e.value; ++bit)
+      before_end[bit] = ((10 - bit) * std::int64_t{1000000000} + e.value / 2) / e.value;
+  }
   if ((e.kind != SEAR_EVENT_UART_TX && e.kind != SEAR_EVENT_UART_RX) || !s.wave_baud[e.index]) return;
-  const std::uint32_t baud = s.wave_baud[e.index];
   const bool tx = e.kind == SEAR_EVENT_UART_TX;
   const int pin = tx ? PinWaveform::uart_tx_pin(e.index) : PinWaveform::uart_rx_pin(e.index);
   const std::size_t line = 1 + 2 * std::size_t{e.index} + (tx ? 0 : 1);
@@ -158,9 +163,8 @@ void McuCapture::queue_wave(State& s, const sear_event& e) {
     const int level = bit == 0 ? 0 : bit == 9 ? 1 : (e.value >> (bit - 1)) & 1;
     if (level == shown) continue;
     shown = level;
-    const std::int64_t before_end = ((10 - bit) * std::int64_t{1000000000} + baud / 2) / baud;
-    s.wave_pending.push(line, {e.time_ns - before_end, static_cast<std::uint32_t>(level), PinWaveform::kLineLevel,
-                               static_cast<std::uint8_t>(pin), {0, 0}});
+    s.wave_pending.push(line, {e.time_ns - before_end[bit], static_cast<std::uint32_t>(level),
+                               PinWaveform::kLineLevel, static_cast<std::uint8_t>(pin), {0, 0}});
   }
 }
 

@@ -79,6 +79,9 @@ class McuCapture : public McuListener {
     EdgeStreams wave_pending{1 + 2 * SEAR_LINK_UARTS};
     std::vector<sear_event> wave_due;    // what write_wave hands the waveform, kept for its capacity
     std::array<std::uint32_t, SEAR_LINK_UARTS> wave_baud{};
+    // Per port, how long before a byte's stamp (the end of its stop bit) each of its ten bits
+    // starts, at wave_baud, rounded as the HAL rounds the byte's end.
+    std::array<std::array<std::int64_t, 10>, SEAR_LINK_UARTS> wave_before_end{};
   };
   std::unique_ptr<BoundedFile> open(const std::string& name, const std::string& note);
   PortFiles& port(State& s, int port);

@@ -54,6 +54,7 @@ PinWaveform::PinWaveform(BoundedFile& pins, BoundedFile& values, const std::stri
     header += fmt::format("$var wire 1 {} {} $end\n", vcd_id(pin), wired(fmt::format("D{}", pin), pin));
     initial += fmt::format("z{}\n", vcd_id(pin));
   }
+  for (int port = 0; port < kPorts; ++port) set_baud(port, 0);
   mode_.fill(0);    // INPUT, as at reset
   driven_.fill(2);  // nothing outside drives it
   pins_.file.write(header + "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n" + initial + "$end\n");
@@ -82,21 +83,41 @@ PinWaveform::PinWaveform(BoundedFile& pins, BoundedFile& values, const std::stri
   values_.file.write(header + "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n" + initial + "$end\n");
 }
 
-void PinWaveform::put(Stream& stream, const char* bytes, std::size_t n) {
-  if (stream.text_len + n > sizeof stream.text) flush_text(stream);
-  std::memcpy(stream.text + stream.text_len, bytes, n);
-  stream.text_len += n;
-}
-
 // Events reach here sorted by time; a VCD whose time ran backwards would be unreadable, so a
 // change that came late is kept at the latest time written rather than breaking the file. The
 // values' bytes that end by then are written first.
+//
+// A 500 kbaud line's edges make a stamp every microsecond or two, and std::to_chars on eleven
+// digits was a tenth of the simulator's instructions on the reference rover: the milliseconds'
+// digits are kept from the stamp before, and only the six below them written, two at a time.
 void PinWaveform::stamp(Stream& stream, std::int64_t time_ns) {
   if (&stream == &values_) end_bytes(time_ns);
   if (time_ns <= stream.last_ns) return;
   stream.last_ns = time_ns;
-  char line[24] = "#";
-  char* end = std::to_chars(line + 1, line + sizeof line - 1, time_ns).ptr;
+  char line[1 + sizeof stream.ms_text + 6 + 1];  // not initialised: a memset cost as much as the digits
+  line[0] = '#';
+  char* end = line + 1;
+  const std::int64_t ms = time_ns / 1000000;
+  if (ms == 0) {
+    end = std::to_chars(end, line + sizeof line, time_ns).ptr;
+  } else {
+    if (ms != stream.ms) {
+      stream.ms = ms;
+      stream.ms_len = static_cast<std::size_t>(
+          std::to_chars(stream.ms_text, stream.ms_text + sizeof stream.ms_text, ms).ptr - stream.ms_text);
+    }
+    std::memcpy(end, stream.ms_text, sizeof stream.ms_text);  // the whole buffer: a fixed-size copy
+    end += stream.ms_len;
+    static constexpr char kPairs[] =
+        "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+        "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+        "8081828384858687888990919293949596979899";
+    const auto below = static_cast<std::uint32_t>(time_ns - ms * 1000000);
+    std::memcpy(end, kPairs + 2 * (below / 10000), 2);
+    std::memcpy(end + 2, kPairs + 2 * (below / 100 % 100), 2);
+    std::memcpy(end + 4, kPairs + 2 * (below % 100), 2);
+    end += 6;
+  }
   *end++ = '\n';
   put(stream, line, static_cast<std::size_t>(end - line));
 }
@@ -115,7 +136,9 @@ void PinWaveform::level(std::int64_t time_ns, int pin, char value) {
 
 void PinWaveform::vector(std::int64_t time_ns, const std::string& id, int value) {
   stamp(values_, time_ns);
-  char line[48] = "bz";
+  char line[48];
+  line[0] = 'b';
+  line[1] = 'z';
   char* end = line + 2;
   // Binary without leading zeros, which a reader extends with zeros (section 18.2.1).
   if (value >= 0) end = std::to_chars(line + 1, line + 20, value, 2).ptr;
@@ -141,15 +164,20 @@ bool PinWaveform::joins(const Line& line, std::int64_t time_ns, int value) {
          line.value != value;
 }
 
+// Worked out once a baud rate rather than with two divisions a byte.
+void PinWaveform::set_baud(int port, std::uint32_t baud) {
+  const std::int64_t b = baud ? baud : 9000000;
+  port_bit_ns_[port] = (std::int64_t{1000000000} + b / 2) / b;
+  port_show_ns_[port] = (kByteBits * std::int64_t{1000000000} + b / 2) / b;
+}
+
 void PinWaveform::byte(std::int64_t time_ns, int port, bool tx, std::uint8_t value) {
   Line& line = lines_[2 * port + (tx ? 0 : 1)];
   if (joins(line, time_ns, value)) line.end_ns = -1;  // no 'z' between
   vector(time_ns, line.id, value);
-  // A byte before its port's baud is known (none on record) shows for a microsecond: 9 Mbaud.
-  const std::int64_t baud = baud_[port] ? baud_[port] : 9000000;
   line.value = value;
-  line.bit_ns = (std::int64_t{1000000000} + baud / 2) / baud;
-  line.end_ns = time_ns + (kByteBits * std::int64_t{1000000000} + baud / 2) / baud;
+  line.bit_ns = port_bit_ns_[port];
+  line.end_ns = time_ns + port_show_ns_[port];
   next_end_ns_ = std::min(next_end_ns_, line.end_ns);
 }
 
@@ -223,7 +251,7 @@ void PinWaveform::write_one(const sear_event& e) {
       break;
     case SEAR_EVENT_UART_BEGIN:
       if (i >= kPorts) return;
-      baud_[i] = e.value;
+      set_baud(i, e.value);
       // The USART takes both pins over; each line idles high between frames.
       level(e.time_ns, uart_tx_pin(i), '1');
       level(e.time_ns, uart_rx_pin(i), '1');
@@ -247,12 +275,12 @@ void PinWaveform::write_one(const sear_event& e) {
 
 void PinWaveform::write(const sear_event* events, std::size_t count) {
   ahead_end_ = events + count;
-  // One file write per event, so that a file at its size limit stops within a line or two of it.
-  for (ahead_ = events; ahead_ < ahead_end_;) {
-    write_one(*ahead_++);
-    flush_text(pins_);
-    flush_text(values_);
-  }
+  // The text goes to the file a buffer of whole lines at a time (put()); at its size limit the
+  // file keeps the lines of that buffer that fit (BoundedFile). A write per event was a tenth of
+  // the capture's time on a 500 kbaud line's edges.
+  for (ahead_ = events; ahead_ < ahead_end_;) write_one(*ahead_++);
+  flush_text(pins_);
+  flush_text(values_);
   ahead_ = ahead_end_ = nullptr;
 }
 

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,9 @@ class PinWaveform {
     explicit Stream(BoundedFile& f) : file(f) {}
     BoundedFile& file;
     std::int64_t last_ns = 0;  // the header's values are at #0
+    std::int64_t ms = 0;       // last_ns's whole milliseconds, in decimal in ms_text (0: none yet)
+    char ms_text[20] = {};     // INT64_MAX / 10^6 has 13 digits
+    std::size_t ms_len = 0;
     char text[512];
     std::size_t text_len = 0;
   };
@@ -83,7 +87,16 @@ class PinWaveform {
   bool joined_ahead(const Line& line) const;
   void byte(std::int64_t time_ns, int port, bool tx, std::uint8_t value);
   void end_bytes(std::int64_t until_ns);
-  static void put(Stream& stream, const char* bytes, std::size_t n);
+  // The first n bytes of `line` to the stream's text. The whole array is copied, a size the
+  // compiler knows, which is cheaper than a call to copy just n: a 500 kbaud line makes two of
+  // these a microsecond.
+  template <std::size_t N>
+  static void put(Stream& stream, const char (&line)[N], std::size_t n) {
+    static_assert(N <= sizeof stream.text);
+    if (stream.text_len + N > sizeof stream.text) flush_text(stream);
+    std::memcpy(stream.text + stream.text_len, line, N);
+    stream.text_len += n;
+  }
   static void flush_text(Stream& stream);
 
   Stream pins_, values_;
@@ -93,7 +106,10 @@ class PinWaveform {
   std::array<bool, SEAR_LINK_PINS> pwm_started_{};              // since the pin last became an output
   std::array<std::uint8_t, SEAR_LINK_PINS> mode_{};    // INPUT, OUTPUT or INPUT_PULLUP (hal/gpio.h)
   std::array<std::uint8_t, SEAR_LINK_PINS> driven_{};  // what a device drives: 0, 1, 2 nothing
-  std::array<std::uint32_t, kPorts> baud_{};
+  // A port's bit time and how long its bytes show (kByteBits), from its baud rate; a byte before
+  // its port's baud is known (none on record) shows for a microsecond: 9 Mbaud.
+  void set_baud(int port, std::uint32_t baud);
+  std::array<std::int64_t, kPorts> port_bit_ns_{}, port_show_ns_{};
   std::array<Line, 2 * kPorts> lines_;  // port n: tx at 2n, rx at 2n + 1
   std::int64_t next_end_ns_ = INT64_MAX;
   const sear_event* ahead_ = nullptr;  // the batch's events not yet written
