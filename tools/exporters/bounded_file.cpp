@@ -27,7 +27,7 @@ BoundedFile::BoundedFile(std::string path, std::uint64_t limit_bytes, std::strin
   // The run flushes on a wall-clock period (FlushClock); between flushes a busy file (a VCD takes
   // megabytes a simulated second) fills a 64 KiB buffer before it costs a write(2). The buffer
   // is this class's own, not stdio's: a UART capture writes a few bytes at a time, hundreds of
-  // thousands of times a simulated second, and fwrite's own work per call was most of that.
+  // thousands of times a simulated second, and fwrite's own work per call was a third of that.
   buffer_ = std::make_unique<char[]>(kBufferBytes);
   std::setvbuf(file_, nullptr, _IONBF, 0);
 }
