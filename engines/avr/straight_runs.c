@@ -88,13 +88,17 @@ static void stack_pointer_stored(struct avr_t *avr, avr_io_addr_t addr, uint8_t 
 }
 
 uint64_t avr_straight_walk(uint32_t pc, uint64_t room, uint32_t code_end, uint32_t *end) {
-  uint64_t cycles = 0;
-  uint32_t at = pc;
+  uint64_t cycles = 0, cut_cycles = 0; /* cut: where the walk first reached `room` */
+  uint32_t at = pc, cut_at = pc;
   while (at < code_end) {
     const uint8_t kind = avr_straight[avr_straight_word(at)];
     if (!(kind & STRAIGHT_CYCLES)) break;
     cycles += kind & STRAIGHT_CYCLES;
     at = avr_straight_next(at, kind);
+    if (!cut_cycles && cycles >= room) {
+      cut_cycles = cycles;
+      cut_at = at;
+    }
   }
   /* Whole once it ends at an instruction that runs on its own (not at one not yet seen). */
   struct straight_run *run = &avr_straight_runs[avr_straight_word(pc)];
@@ -111,13 +115,8 @@ uint64_t avr_straight_walk(uint32_t pc, uint64_t room, uint32_t code_end, uint32
     *run = (struct straight_run){(uint16_t)cycles, (uint16_t)(at - pc), 0};
   }
   if (cycles > room) { /* as far as the room goes */
-    cycles = 0;
-    at = pc;
-    while (cycles < room) {
-      const uint8_t kind = avr_straight[avr_straight_word(at)];
-      cycles += kind & STRAIGHT_CYCLES;
-      at = avr_straight_next(at, kind);
-    }
+    *end = cut_at;
+    return cut_cycles;
   }
   *end = at;
   return cycles;

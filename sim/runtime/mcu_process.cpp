@@ -62,10 +62,11 @@ std::vector<std::string> firmware_environment(bool eeprom, const std::vector<std
   std::vector<std::string> env{fmt::format("{}={}", SEAR_LINK_FD_ENV, kLinkFd), "LD_BIND_NOW=1",
                                fmt::format("{}={:010d}", SEAR_SIM_PID_ENV, getpid())};
   if (eeprom) env.push_back(fmt::format("{}={}", SEAR_EEPROM_FD_ENV, kEepromFd));
-  for (const char* name : {"ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS"})
-    if (const char* value = std::getenv(name)) env.push_back(fmt::format("{}={}", name, value));
-  for (const std::string& name : pass_env)
+  const auto pass = [&env](const std::string& name) {
     if (const char* value = std::getenv(name.c_str())) env.push_back(fmt::format("{}={}", name, value));
+  };
+  for (const char* name : {"ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS"}) pass(name);
+  for (const std::string& name : pass_env) pass(name);
   return env;
 }
 
