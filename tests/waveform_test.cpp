@@ -205,12 +205,13 @@ std::string waveform_probe_mcu(const char* cycles) {
          WAVEFORM_PROBE + "\"/>\n      <uart port=\"1\" loopback=\"true\"/>\n    </mcu>\n";
 }
 
-// The pins a logic analyser would probe carry the frames of every byte: TX1 (D18) and the
-// looped-back RX1 (D19) "AAB" at 9600 baud from 0 s, TX2 (D16) the 500 kbaud burst from 60 ms,
-// each edge where the frame puts it, and sigrok's UART decoder reads the same bytes off them.
+// With --uart-frames the pins a logic analyser would probe carry the frames of every byte: TX1
+// (D18) and the looped-back RX1 (D19) "AAB" at 9600 baud from 0 s, TX2 (D16) the 500 kbaud burst
+// from 60 ms, each edge where the frame puts it, and sigrok's UART decoder reads the same bytes
+// off them.
 TEST(Waveform, UartPinsCarryTheirFramesForALogicAnalysersDecoder) {
   TempDir dir;
-  const SearRun run = run_sear(dir, rover_project(waveform_probe_mcu("0"), "", 0.1), "--quiet");
+  const SearRun run = run_sear(dir, rover_project(waveform_probe_mcu("0"), "", 0.1), "--quiet --uart-frames");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const Waves waves = read_vcd(run.file("rover.main.pins.vcd"));
   std::vector<Change> tx1{{0, 1}};  // uart_begin at 0: the line idles high
@@ -237,12 +238,46 @@ TEST(Waveform, UartPinsCarryTheirFramesForALogicAnalysersDecoder) {
   // first; with calls that take no time a port's first byte starts the instant it began. With the
   // default cost the line idles high for one call, 3.125 us (31 samples at 10 MHz), first.
   TempDir costed_dir;
-  const SearRun costed = run_sear(costed_dir, rover_project(waveform_probe_mcu("50"), "", 0.1), "--quiet");
+  const SearRun costed = run_sear(costed_dir, rover_project(waveform_probe_mcu("50"), "", 0.1), "--quiet --uart-frames");
   ASSERT_EQ(costed.exit_code, 0) << costed.err;
   const fs::path vcd = costed.dir / "rover.main.pins.vcd";
   EXPECT_EQ(sigrok_uart(vcd, "D18_loopback", 9600), "41 41 42 ");
   EXPECT_EQ(sigrok_uart(vcd, "D19_loopback", 9600), "41 41 42 ");
   EXPECT_EQ(sigrok_uart(vcd, "D16", 500000), hex_of(burst));
+}
+
+// Without --uart-frames a begun USART's pins show 'x' from the port's uart_begin on, with no edge
+// after it: a flat idle line would say the port was silent while it sent "AAB" and 64 bytes. The
+// header says how to have the frames drawn; everything else is as with them, byte for byte.
+TEST(Waveform, WithoutUartFramesABegunUsartsPinsShowUnknownAndNothingElseChanges) {
+  TempDir dir, framed_dir;
+  const SearRun run = run_sear(dir, rover_project(waveform_probe_mcu("0"), "", 0.1), "--quiet");
+  const SearRun framed = run_sear(framed_dir, read_file(dir.path() / "project.xml"), "--quiet --uart-frames");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  ASSERT_EQ(framed.exit_code, 0) << framed.err;
+  const std::string pins = run.file("rover.main.pins.vcd");
+  EXPECT_NE(pins.find("$comment A begun USART's pins show x: sear run --uart-frames draws"), std::string::npos);
+  // Each pin's lines after the header, as written: identifiers are '!' + the pin's number.
+  const auto lines_of_pin = [](const std::string& vcd, int pin) {
+    std::vector<std::string> out;
+    const std::string body = vcd.substr(vcd.find("$enddefinitions"));
+    for (const auto& line : lines_of(body))
+      if (line.size() == 2 && line[1] == static_cast<char>('!' + pin)) out.push_back(line);
+    return out;
+  };
+  EXPECT_EQ(lines_of_pin(pins, 18), (std::vector<std::string>{"z3", "x3"}));  // uart_begin(1) at 0
+  EXPECT_EQ(lines_of_pin(pins, 19), (std::vector<std::string>{"z4", "x4"}));
+  EXPECT_EQ(lines_of_pin(pins, 16), (std::vector<std::string>{"z1", "x1"}));  // uart_begin(2) at 60 ms
+  EXPECT_EQ(read_vcd(pins).at("D16"), (std::vector<Change>{{0, kZ}}));
+  // With the frames, the pins that carried bytes carry them (10 and more edges each) and the
+  // silent RX2 (D17) idles high; every other pin, and the values' file, are the same.
+  const Waves with = read_vcd(framed.file("rover.main.pins.vcd"));
+  Waves without = read_vcd(pins);
+  for (const char* usart : {"D16", "D18_loopback", "D19_loopback"}) EXPECT_GE(with.at(usart).size(), 10u) << usart;
+  EXPECT_EQ(with.at("D17"), (std::vector<Change>{{0, kZ}, {60 * kMs, 1}}));
+  for (const char* usart : {"D16", "D17", "D18_loopback", "D19_loopback"}) without.at(usart) = with.at(usart);
+  EXPECT_EQ(without, with);
+  EXPECT_EQ(run.file("rover.main.values.vcd"), framed.file("rover.main.values.vcd"));
 }
 
 // Each pin is named after what is wired to it (a motor's inputs, a sensor's, a UART's far end, a
@@ -256,7 +291,7 @@ TEST(Waveform, PinsAreNamedAfterWhatIsWiredToThem) {
                           "      <motor name=\"left\" pwm=\"3\" dir=\"12\" brake=\"9\"/>\n"
                           "      <hcsr04 name=\"sonar\" trig=\"24\" echo=\"10\" pos=\"0.15 0 0.05\"/>\n"
                           "      <gp2d12 name=\"ir_front\" adc=\"1\" pos=\"0.15 0 0.02\"/>\n    </mcu>\n";
-  const SearRun run = run_sear(dir, rover_project(mcu, "", 0.1), "--quiet");
+  const SearRun run = run_sear(dir, rover_project(mcu, "", 0.1), "--quiet --uart-frames");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   std::vector<std::string> expected;
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) expected.push_back("D" + std::to_string(pin));

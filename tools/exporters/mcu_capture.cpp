@@ -53,7 +53,8 @@ McuCapture::McuCapture(std::string out_dir, std::vector<Mcu> mcus, bool echo, st
     if (m.console_uart >= 0) s.console = open(m.id + ".console.log", text_truncation_note(max_file_bytes_));
     s.pins = open(m.id + ".pins.vcd", vcd_truncation_note(max_file_bytes_));
     s.values = open(m.id + ".values.vcd", vcd_truncation_note(max_file_bytes_));
-    s.waveform = std::make_unique<PinWaveform>(*s.pins, *s.values, m.id, m.waveform_uart_bytes, m.pin_labels);
+    s.waveform = std::make_unique<PinWaveform>(*s.pins, *s.values, m.id, m.waveform_uart_bytes, m.pin_labels,
+                                               m.uart_frames);
     states_.push_back(std::move(s));
   }
 }
@@ -154,7 +155,8 @@ void McuCapture::queue_wave(State& s, const sear_event& e) {
     for (int bit = 0; bit < 10 && e.value; ++bit)
       before_end[bit] = ((10 - bit) * std::int64_t{1000000000} + e.value / 2) / e.value;
   }
-  if ((e.kind != SEAR_EVENT_UART_TX && e.kind != SEAR_EVENT_UART_RX) || !s.wave_baud[e.index]) return;
+  if ((e.kind != SEAR_EVENT_UART_TX && e.kind != SEAR_EVENT_UART_RX) || !s.wave_baud[e.index] || !s.mcu.uart_frames)
+    return;
   const bool tx = e.kind == SEAR_EVENT_UART_TX;
   const int pin = tx ? PinWaveform::uart_tx_pin(e.index) : PinWaveform::uart_rx_pin(e.index);
   const std::size_t line = 1 + 2 * std::size_t{e.index} + (tx ? 0 : 1);

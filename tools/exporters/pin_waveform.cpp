@@ -40,15 +40,18 @@ int PinWaveform::uart_tx_pin(int port) { return mega2560_uart_tx_pin(port); }
 int PinWaveform::uart_rx_pin(int port) { return mega2560_uart_rx_pin(port); }
 
 PinWaveform::PinWaveform(BoundedFile& pins, BoundedFile& values, const std::string& mcu_id, bool uart_bytes,
-                         const std::vector<std::string>& labels)
-    : pins_(pins), values_(values), uart_bytes_(uart_bytes) {
+                         const std::vector<std::string>& labels, bool uart_frames)
+    : pins_(pins), values_(values), uart_bytes_(uart_bytes), uart_frames_(uart_frames) {
   // "name" -> "name_label" where the pin is wired, else "name".
   const auto wired = [&](std::string name, int pin) {
     if (pin < static_cast<int>(labels.size()) && !labels[pin].empty()) name += "_" + labels[pin];
     return name;
   };
   const std::string scope = fmt::format("$timescale 1 ns $end\n$scope module {} $end\n", mcu_id);
-  std::string header = fmt::format("$comment SEAR pin levels of mcu {} $end\n", mcu_id) + scope;
+  std::string header = fmt::format("$comment SEAR pin levels of mcu {} $end\n", mcu_id);
+  if (!uart_frames)
+    header += "$comment A begun USART's pins show x: sear run --uart-frames draws each byte's frame on them $end\n";
+  header += scope;
   std::string initial;
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) {
     header += fmt::format("$var wire 1 {} {} $end\n", vcd_id(pin), wired(fmt::format("D{}", pin), pin));
@@ -252,9 +255,9 @@ void PinWaveform::write_one(const sear_event& e) {
     case SEAR_EVENT_UART_BEGIN:
       if (i >= kPorts) return;
       set_baud(i, e.value);
-      // The USART takes both pins over; each line idles high between frames.
-      level(e.time_ns, uart_tx_pin(i), '1');
-      level(e.time_ns, uart_rx_pin(i), '1');
+      // The USART takes both pins over; each line idles high between frames, if they are drawn.
+      level(e.time_ns, uart_tx_pin(i), uart_frames_ ? '1' : 'x');
+      level(e.time_ns, uart_rx_pin(i), uart_frames_ ? '1' : 'x');
       break;
     case kLineLevel:
       if (i < SEAR_LINK_PINS) level(e.time_ns, i, value ? '1' : '0');

@@ -39,8 +39,11 @@ class PinWaveform {
   // `labels` (exporters/pin_labels.hpp), one a pin or none, name what is wired to each pin:
   // pin 22 is "D22_sonar.trig" where "D22" alone would say nothing, and a value on it is named
   // after it ("D5_pwm_left.pwm", "uart1_tx_gps.rx").
+  // `uart_frames`: the caller hands it each UART byte's frame as kLineLevel changes. Without them a
+  // begun USART's pins show 'x', unknown, rather than an idle line that would hide the traffic,
+  // and the header's comment says how to have them drawn.
   PinWaveform(BoundedFile& pins, BoundedFile& values, const std::string& mcu_id, bool uart_bytes = true,
-              const std::vector<std::string>& labels = {});
+              const std::vector<std::string>& labels = {}, bool uart_frames = true);
 
   // A batch of the MCU's events, in time order with those before, written at once; the kinds
   // the waveform does not show (CAN) are ignored.
@@ -101,6 +104,7 @@ class PinWaveform {
 
   Stream pins_, values_;
   bool uart_bytes_;
+  bool uart_frames_;
   std::array<std::string, SEAR_LINK_PINS> duty_id_, servo_id_;  // empty: not such a pin
   std::array<int, SEAR_LINK_PINS> duty_{}, servo_{};            // shown; -1: 'z'
   std::array<bool, SEAR_LINK_PINS> pwm_started_{};              // since the pin last became an output

@@ -22,6 +22,7 @@ struct RunOptions {
   double hang_timeout_s = 5;  // host seconds a firmware may go without progress
   bool keep_going = false;    // a stopped firmware does not end the run
   double max_file_mb = 256;   // the most any one output file of the run may hold, in MiB
+  bool uart_frames = false;   // pins.vcd draws each UART byte's frame bit by bit (--uart-frames)
   std::vector<std::string> ptys;  // UART devices ("robot.mcu.device") given to the host as pseudo-terminals
   std::vector<std::string> cans;  // CAN buses bridged to SocketCAN ("bus=interface")
   std::optional<double> realtime;  // run no faster than this many times real time

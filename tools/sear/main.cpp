@@ -83,6 +83,9 @@ int main(int argc, char** argv) {
                       "The most any one output file may hold, in MiB; a file at its limit ends with a note saying so")
       ->capture_default_str()
       ->check(finite_number(0.001, 1048576.0, false, "a size in MiB 0.001..1048576"));
+  run_cmd->add_flag("--uart-frames", run.uart_frames,
+                    "Draw each UART byte's frame, bit by bit, on its USART pins in OUT/ROBOT.MCU.pins.vcd, for a logic "
+                    "analyser's UART decoder (without it those pins show x once their port has begun)");
   run_cmd->add_flag("--keep-going", run.keep_going,
                     "When a firmware crashes, exits or hangs, go on without that MCU (the run still fails at the end)");
   run_cmd->add_option("--junit", run.junit,
