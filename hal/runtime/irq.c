@@ -22,7 +22,7 @@ static void level_round(int line) {
   const uint8_t pin = level_pins[line];
   level_handlers[line]();
   if (sear_mcu.pin_handler[pin] == level_trampolines[line] && mcu_pin_level(pin) == LOW) {
-    sear_mcu.pin_pending[pin] = 1;
+    mcu_set_pin_pending(pin, 1);
     sear_mcu.link->clock_ns += sear_mcu.cost_ns;
   }
 }
@@ -62,17 +62,17 @@ void irq_attach_pin(uint8_t pin, uint8_t edge, irq_handler handler) {
   }
   mcu_watch_idle_loops();
   /* A level interrupt is due at once on a pin already LOW; an edge one waits for its edge. */
-  sear_mcu.pin_pending[pin] = (uint8_t)(edge == IRQ_LOW && handler && mcu_pin_level(pin) == LOW);
+  mcu_set_pin_pending(pin, edge == IRQ_LOW && handler && mcu_pin_level(pin) == LOW);
   mcu_reschedule();
   /* ... and runs before the caller goes on, as on the chip once the mask bit is set. */
-  if (sear_mcu.pin_pending[pin] && sear_mcu.link->clock_ns >= sear_mcu.next_due_ns) mcu_service();
+  if (mcu_pin_pending(pin) && sear_mcu.link->clock_ns >= sear_mcu.next_due_ns) mcu_service();
 }
 
 void irq_detach_pin(uint8_t pin) {
   mcu_enter(SEAR_CALL_irq_detach_pin);
   mcu_check_pin(pin, "irq_detach_pin");
   sear_mcu.pin_handler[pin] = NULL;
-  sear_mcu.pin_pending[pin] = 0;
+  mcu_set_pin_pending(pin, 0);
 }
 
 void irq_timer_start(uint32_t period_us, irq_handler handler) {

@@ -32,7 +32,7 @@ void mcu_set_driven(uint8_t pin, uint8_t level) {
   if (!sear_mcu.pin_handler[pin]) return;
   if ((after == HIGH && (sear_mcu.pin_edges[pin] & IRQ_RISING)) ||
       (after == LOW && (sear_mcu.pin_edges[pin] & IRQ_FALLING)))
-    sear_mcu.pin_pending[pin] = 1;
+    mcu_set_pin_pending(pin, 1);
 }
 
 /* The board interface the device entries talk to (devices.h), for the native engine. A change of

@@ -63,9 +63,7 @@ static int interrupt_pending(void) {
   if (sear_mcu.timer_pending || sear_mcu.can.rx_pending) return 1;
   for (int port = 0; port < SEAR_LINK_UARTS; ++port)
     if (sear_mcu.uart[port].handler_count || sear_mcu.uart[port].fifo_count) return 1;
-  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin)
-    if (sear_mcu.pin_pending[pin]) return 1;
-  return 0;
+  return mcu_first_pending_pin() >= 0;
 }
 
 void mcu_reschedule(void) {
@@ -174,12 +172,11 @@ static void run_isr(irq_handler handler) {
 /* In the chip's vector order: external and pin-change interrupts (the CAN controller's INT line
  * is one, after the pins'), then the timer, then UARTs. */
 static int deliver_one(void) {
-  for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) {
-    if (sear_mcu.pin_pending[pin]) {
-      sear_mcu.pin_pending[pin] = 0;
-      if (sear_mcu.pin_handler[pin]) run_isr(sear_mcu.pin_handler[pin]);
-      return 1;
-    }
+  const int pin = mcu_first_pending_pin();
+  if (pin >= 0) {
+    mcu_set_pin_pending((uint8_t)pin, 0);
+    if (sear_mcu.pin_handler[pin]) run_isr(sear_mcu.pin_handler[pin]);
+    return 1;
   }
   if (sear_mcu.can.rx_pending) {
     sear_mcu.can.rx_pending = 0;

@@ -76,7 +76,7 @@ static void listener_edge(void) {
 static void catch_up(int64_t now) {
   if (listener == NO_LISTENER) return;
   const uint8_t pin = lines[listener].rx_pin;
-  sample_until(sear_mcu.pin_pending[pin] ? sear_mcu.pin_change_ns[pin] : now + 1);
+  sample_until(mcu_pin_pending(pin) ? sear_mcu.pin_change_ns[pin] : now + 1);
 }
 
 static void stop_listening(void) {
@@ -84,7 +84,7 @@ static void stop_listening(void) {
   const uint8_t pin = lines[listener].rx_pin;
   if (sear_mcu.pin_handler[pin] == listener_edge) {
     sear_mcu.pin_handler[pin] = NULL;
-    sear_mcu.pin_pending[pin] = 0;
+    mcu_set_pin_pending(pin, 0);
   }
   listener = NO_LISTENER;
 }
@@ -96,7 +96,7 @@ static void start_listening(uint8_t id) {
   rx.head = rx.tail = 0;
   sear_mcu.pin_handler[l->rx_pin] = listener_edge;
   sear_mcu.pin_edges[l->rx_pin] = IRQ_CHANGE;
-  sear_mcu.pin_pending[l->rx_pin] = 0;
+  mcu_set_pin_pending(l->rx_pin, 0);
   sear_mcu.link->usage.pin_read[l->rx_pin] = 1;
   mcu_watch_idle_loops();
   mcu_reschedule();
