@@ -99,6 +99,17 @@ TEST(RunSummary, EveryFieldAUserReadsMatchesTheRunItDescribes) {
   EXPECT_GT(s["wall_time_s"].get<double>(), 0.0);
   EXPECT_NEAR(s["real_time_factor"].get<double>(), s["sim_time_s"].get<double>() / s["wall_time_s"].get<double>(),
               1e-9 * s["real_time_factor"].get<double>());
+  // Where a step's wall time went, in microseconds a step: each part took some (a clock read
+  // apart at least), the world's step more than nothing, and the 1000 steps together no more
+  // than the whole run, which also started the firmware and wrote the files.
+  double per_step_us = 0;
+  for (const char* part : {"before_quantum", "capture", "physics", "after_quantum"}) {
+    ASSERT_TRUE(s["step_wall_us"].contains(part)) << part;
+    EXPECT_GE(s["step_wall_us"][part].get<double>(), 0.0) << part;
+    per_step_us += s["step_wall_us"][part].get<double>();
+  }
+  EXPECT_GT(s["step_wall_us"]["physics"].get<double>(), 0.0);
+  EXPECT_LE(per_step_us * 1000, s["wall_time_s"].get<double>() * 1e6);
 
   ASSERT_EQ(s["robots"].size(), 1u);
   const auto& robot = s["robots"][0];
@@ -306,7 +317,7 @@ TEST(Determinism, TheSameSeedGivesTheSameBytesAndAnotherSeedOtherNoise) {
   // summary.json differs only in project_file (each run's own folder) and the wall time.
   auto sa = nlohmann::json::parse(run_a.file("summary.json")), sb = nlohmann::json::parse(run_b.file("summary.json"));
   for (auto* s : {&sa, &sb})
-    for (const char* key : {"project_file", "wall_time_s", "real_time_factor"}) s->erase(key);
+    for (const char* key : {"project_file", "wall_time_s", "real_time_factor", "step_wall_us"}) s->erase(key);
   EXPECT_EQ(sa, sb);
   EXPECT_EQ(without_wall_time(run_a.file("summary.txt"), a.path().string()),
             without_wall_time(run_b.file("summary.txt"), b.path().string()));

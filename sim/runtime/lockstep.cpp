@@ -1,5 +1,6 @@
 #include "runtime/lockstep.hpp"
 
+#include <chrono>
 #include <stdexcept>
 
 namespace sear {
@@ -34,7 +35,26 @@ void Lockstep::retire_robot(std::size_t robot) {
   }
 }
 
+namespace {
+
+// Adds the time since the last call to `*part`: one clock read a part.
+class PartClock {
+ public:
+  void to(std::int64_t* part) {
+    const auto now = std::chrono::steady_clock::now();
+    *part += std::chrono::duration_cast<std::chrono::nanoseconds>(now - last_).count();
+    last_ = now;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
 bool Lockstep::step(const std::function<void()>& alongside) {
+  PartClock clock;
+  ++wall_.steps;
   const std::int64_t t0 = sim_.time_ns();
   const std::int64_t t1 = t0 + sim_.step_ns();
   // Every firmware runs its quantum [t0, t1) in its own process, against sensors measured at t0,
@@ -45,8 +65,11 @@ bool Lockstep::step(const std::function<void()>& alongside) {
   if (can_) can_->begin_quantum(sim_, t0, t1);
   for (std::size_t i = 0; i < bridges_.size(); ++i)
     if (running_[i]) bridges_[i]->begin_quantum(sim_.physics(), t0, t1);
+  clock.to(&wall_.before_quantum_ns);
   if (alongside) alongside();
+  clock.to(&wall_.alongside_ns);
   sim_.step();
+  clock.to(&wall_.physics_ns);
   bool stopped = false;
   for (std::size_t i = 0; i < bridges_.size(); ++i) {
     if (!running_[i]) continue;
@@ -64,6 +87,7 @@ bool Lockstep::step(const std::function<void()>& alongside) {
   }
   if (can_) can_->finish_quantum(t0, t1);
   if (options_.mcu.tap) options_.mcu.tap->on_step(sim_);
+  clock.to(&wall_.after_quantum_ns);
   if (stopped && !options_.keep_going) return false;
   return true;
 }

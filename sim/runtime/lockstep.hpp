@@ -31,6 +31,17 @@ struct McuHaltReport {
   McuHalt halt;
 };
 
+// Where the steps' wall time went, summed over the steps, in host nanoseconds: what a step waits
+// for on the simulator's side, so that a change can be judged by its part of a step within one
+// run, whatever the host's speed at the moment.
+struct StepWallTime {
+  std::int64_t steps = 0;
+  std::int64_t before_quantum_ns = 0;  // the sensors' truth, the serial lines, the turns given
+  std::int64_t alongside_ns = 0;       // `alongside` (the capture), while the firmware runs
+  std::int64_t physics_ns = 0;         // the world's step, while the firmware runs
+  std::int64_t after_quantum_ns = 0;   // waiting for each firmware's quantum to end, its events
+};
+
 class Lockstep {
  public:
   // Starts one process per MCU of every robot; each McuDesc must name its built executable.
@@ -50,6 +61,7 @@ class Lockstep {
   const std::vector<McuStop>& stops() const { return stops_; }
   // MCUs that halted in an endless empty loop, in the order the run saw it; they run on.
   const std::vector<McuHaltReport>& halts() const { return halts_; }
+  const StepWallTime& wall_time() const { return wall_; }
   // Bridges a <can_bus> to the host; see CanNetwork::attach_host.
   void attach_can_host(const std::string& bus, HostCanEnd* end);
 
@@ -64,6 +76,7 @@ class Lockstep {
   std::vector<McuHaltReport> halts_;
   std::vector<bool> halt_reported_;
   std::unique_ptr<CanNetwork> can_;  // null when the project has no <can_bus>
+  StepWallTime wall_;
 };
 
 }  // namespace sear

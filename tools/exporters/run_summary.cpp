@@ -85,6 +85,14 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
   j["wall_time_s"] = o.wall_time_s;
   j["real_time_factor"] = real_time_factor(sim, o);
   j["steps"] = sim.time_ns() / sim.step_ns();
+  // Means a step, in microseconds; wall-clock figures like the two above.
+  const auto per_step_us = [&](std::int64_t ns) {
+    return o.step_wall.steps ? static_cast<double>(ns) * 1e-3 / static_cast<double>(o.step_wall.steps) : 0.0;
+  };
+  j["step_wall_us"] = {{"before_quantum", per_step_us(o.step_wall.before_quantum_ns)},
+                       {"capture", per_step_us(o.step_wall.alongside_ns)},
+                       {"physics", per_step_us(o.step_wall.physics_ns)},
+                       {"after_quantum", per_step_us(o.step_wall.after_quantum_ns)}};
   j["robots"] = nlohmann::ordered_json::array();
   for (std::size_t r = 0; r < sim.robot_count(); ++r) {
     const auto& v = sim.robot(r);

@@ -20,6 +20,7 @@ struct RunOutcome {
   std::string project_name;
   std::uint64_t seed = 0;
   double wall_time_s = 0;
+  StepWallTime step_wall;  // where the steps' wall time went (the capture is Lockstep's `alongside`)
   std::string status = "completed";  // or "interrupted", "mcu stopped", "physics failed"
   std::vector<McuStop> mcu_stops;    // firmware that crashed, exited, hung or was refused
   std::vector<McuHaltReport> mcu_halts;  // firmware that halted in `while (true);` and ran on

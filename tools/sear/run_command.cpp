@@ -446,6 +446,7 @@ int run_command(const RunOptions& options) {
     outcome.project_name = project->name;
     outcome.seed = project->run.seed;
     outcome.wall_time_s = seconds_since(start);
+    outcome.step_wall = lockstep.wall_time();
     outcome.mcu_stops = lockstep.stops();
     outcome.mcu_halts = lockstep.halts();
     outcome.never_sent = capture.never_sent();
