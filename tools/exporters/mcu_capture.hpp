@@ -40,8 +40,8 @@ class McuCapture : public McuListener {
     std::vector<std::string> pin_labels = {};  // what is wired to each pin (exporters/pin_labels.hpp)
     // pins.vcd draws each UART byte's frame on its USART pins. Off by default: at 500 kbaud the
     // frames are 96 % of the file (2 MB a simulated second), which then reaches the default size
-    // limit in two minutes and loses every later edge of every pin, for a view the bytes in the
-    // logs and values.vcd already give.
+    // limit in two minutes and loses every later edge of every pin, and cost the reference rover
+    // a fifth of its speed, for a view the bytes in the logs and values.vcd already give.
     bool uart_frames = false;
   };
   // `echo`: console lines also go to standard output, with the MCU and the sim time; a closed
