@@ -396,11 +396,10 @@ TEST(AvrEngine, TheSameRunTwiceGivesTheSameBytes) {
 // every observation exact: a run gives the same bytes as one instruction per call
 // (SEAR_AVR_SINGLE_STEP), in every file the run writes and in its summary but for the summary's
 // wall-clock figures (wall_time_s, real_time_factor, step_wall_us) and summary.txt, which prints
-// two of them. The
-// reference rover's AVR build reaches every device kind (the LMS200 from 2 s, at 500 kbaud from 2.4 s, SPI,
-// TWI, pin-change and timer interrupts, the ADC); the avoider spends its cycles in delay loops
-// that take interrupts; both write the engine's profile (per-function cycles, interrupt latency,
-// interrupts-off stretches, the stack's low mark).
+// two of them. The reference rover's AVR build reaches every device kind (the LMS200 from 2 s, at
+// 500 kbaud from 2.4 s, SPI, TWI, pin-change and timer interrupts, the ADC); the avoider spends
+// its cycles in delay loops that take interrupts; both write the engine's profile (per-function
+// cycles, interrupt latency, interrupts-off stretches, the stack's low mark).
 class StraightRuns : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(StraightRuns, ChangeNoByteOfWhatTheRunWrites) {
