@@ -2,8 +2,10 @@
 # Speed of whole runs, in one table (issue 23): per scenario and sear binary, the median over RUNS
 # runs of the stepping loop's real-time factor and of the whole run's wall time (`time sear run`:
 # start-up, firmware from the cache, plots included as sear draws them), with the time outside the
-# loop, the seconds its plots took after the exit (drawn in the background), and whether the whole
-# run kept within issue 23's bound of 1.15 x the loop's time + 0.5 s. Scenarios:
+# loop, the seconds its plots took after the exit (drawn in the background), whether the whole
+# run kept within issue 23's bound of 1.15 x the loop's time + 0.5 s, and the microseconds a step
+# spent before the firmware's quantum, in the capture, in physics and after the quantum
+# (summary.json's step_wall_us, "-" from a sear without it). Scenarios:
 #   default   the reference rover (assets/projects/default.xml), every sensor kind on one MCU
 #   avoider   the obstacle avoider (assets/projects/avoider_hills.xml)
 #   two       two avoider rovers, an MCU each (bench/projects/avoider_two.xml)
@@ -36,8 +38,8 @@ grep -v "<lms2xx" "$ROOT/assets/projects/default.xml" |
 
 echo "$RUNS runs per line (medians), $DURATION s simulated (short: 1 s); $(nproc) cores; $(date -u '+%F %T') UTC"
 for i in "${!binaries[@]}"; do echo "sear $((i + 1)): ${binaries[$i]}"; done
-printf '%-8s %4s %9s %9s %9s %9s %9s %6s   %s\n' scenario sear "loop RTF" "loop s" "whole s" "outside" "plots s" bound \
-  "load avg at start (1/5/15 min)"
+printf '%-8s %4s %9s %9s %9s %9s %9s %6s %23s   %s\n' scenario sear "loop RTF" "loop s" "whole s" "outside" "plots s" \
+  bound "step us: pre cap phy post" "load avg at start (1/5/15 min)"
 for s in $SCENARIOS; do
   args=() duration=$DURATION
   case $s in
@@ -66,8 +68,15 @@ for s in $SCENARIOS; do
     outside=$(awk '{ print $2 - $3 / $1 }' "$work/$s.$b" | bench_median)
     plots=$(bench_column 4 <"$work/$s.$b" | bench_median)
     bound=$(awk -v w="$whole" -v l="$loop" 'BEGIN { print (w <= 1.15 * l + 0.5) ? "ok" : "over" }')
-    printf '%-8s %4s %9.1f %9.2f %9.2f %9.2f %9.2f %6s   %s\n' "$s" "$((b + 1))" "$rtf" "$loop" "$whole" "$outside" \
-      "$plots" "$bound" "$load"
+    # Where a step's wall time went (summary.json's step_wall_us), medians: a change's share of a
+    # step moves far less with the host's speed than the real-time factor does.
+    parts=""
+    for column in 5 6 7 8; do
+      values=$(bench_column "$column" <"$work/$s.$b" | awk '$1 != "-"')
+      if [[ -n $values ]]; then parts+=$(printf ' %5.1f' "$(bench_median <<<"$values")"); else parts+='     -'; fi
+    done
+    printf '%-8s %4s %9.1f %9.2f %9.2f %9.2f %9.2f %6s %23s   %s\n' "$s" "$((b + 1))" "$rtf" "$loop" "$whole" "$outside" \
+      "$plots" "$bound" "$parts" "$load"
   done
 done
 echo "load avg at the end: $(bench_load)"

@@ -41,7 +41,9 @@ bench_warm() {
 # bench_runs SEAR RUNS DURATION OUT PROJECT [ARGS...]: RUNS timed runs of DURATION simulated
 # seconds into OUT.1, OUT.2..., each printing one line: loop real-time factor, whole-run wall
 # seconds, simulated seconds, seconds its plots took after the exit (about 0 without plots, or
-# with a sear that draws them before it exits). Warm up first (bench_warm). The elements of the
+# with a sear that draws them before it exits), and the microseconds a step spent before the
+# quantum, in the capture, in physics and after the quantum (summary.json's step_wall_us; "-"
+# from a sear that does not write it). Warm up first (bench_warm). The elements of the
 # array BENCH_PREFIX, if set, go before sear (taskset -c 0, unshare ...). A failed run ends the script.
 bench_runs() {
   local sear=$1 runs=$2 duration=$3 out=$4
@@ -55,6 +57,8 @@ bench_runs() {
     flock "$out.$i" true
     t2=$(date +%s.%N)
     jq -r --arg whole "$(echo "$t1 - $t0" | bc -l)" --arg plots "$(echo "$t2 - $t1" | bc -l)" \
-      '"\(.real_time_factor) \($whole | tonumber) \(.sim_time_s) \($plots | tonumber)"' "$out.$i/summary.json"
+      '"\(.real_time_factor) \($whole | tonumber) \(.sim_time_s) \($plots | tonumber) " +
+       ([.step_wall_us | (.before_quantum, .capture, .physics, .after_quantum) // "-"] | map(tostring) | join(" "))' \
+      "$out.$i/summary.json"
   done
 }
