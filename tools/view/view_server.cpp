@@ -69,6 +69,10 @@ struct Client {
   std::string frame, status;      // only the newest of each
   bool has_frame = false, has_status = false;
   std::uint64_t skipped = 0;  // frames replaced before they were sent, since the last status sent
+  // No frame sent yet. The first is kept until it is sent, a newer one dropped instead: it holds
+  // the log's whole ring, what was said before the page came, and it shows where a run held for
+  // its first page starts. Replaced by a frame some steps on, both were lost under load.
+  bool first_frame = true;
   bool closed = false;        // the connection is going: send nothing more
   bool counted = true;        // in *watching
   std::atomic<bool> dead{false};  // a write failed: nothing more is queued, civetweb closes it
@@ -111,6 +115,7 @@ void send_loop(Client* c) {
     } else if (c->has_frame) {
       text = std::move(c->frame);
       c->has_frame = false;
+      c->first_frame = false;
     } else {
       text = with_skipped(std::move(c->status), c->skipped);
       c->skipped = 0;
@@ -594,9 +599,12 @@ void ViewServer::send_frame(const std::string& frame, const std::string& status)
     if (c->dead.load(std::memory_order_relaxed)) continue;
     std::lock_guard<std::mutex> client_lock(c->m);
     if (c->has_frame) ++c->skipped;  // its log entries never reach this page
-    c->frame = frame;
+    if (!(c->has_frame && c->first_frame)) {
+      c->frame = frame;
+      c->has_frame = true;
+    }
     c->status = status;
-    c->has_frame = c->has_status = true;
+    c->has_status = true;
     c->cv.notify_one();
   }
 }
