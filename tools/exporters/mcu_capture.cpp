@@ -147,7 +147,7 @@ void McuCapture::release(State& s, std::int64_t until_ns) {
 // the stop bit (high); each bit's edge rounded to the nanosecond as the HAL rounds the byte's end.
 void McuCapture::queue_wave(State& s, const sear_event& e) {
   s.wave_pending.push(0, e);
-  if (e.index >= SEAR_LINK_UARTS) return;
+  if (!s.mcu.uart_frames || e.index >= SEAR_LINK_UARTS) return;
   std::array<std::int64_t, 10>& before_end = s.wave_before_end[e.index];
   if (e.kind == SEAR_EVENT_UART_BEGIN) {
     s.wave_baud[e.index] = e.value;
@@ -155,8 +155,7 @@ void McuCapture::queue_wave(State& s, const sear_event& e) {
     for (int bit = 0; bit < 10 && e.value; ++bit)
       before_end[bit] = ((10 - bit) * std::int64_t{1000000000} + e.value / 2) / e.value;
   }
-  if ((e.kind != SEAR_EVENT_UART_TX && e.kind != SEAR_EVENT_UART_RX) || !s.wave_baud[e.index] || !s.mcu.uart_frames)
-    return;
+  if ((e.kind != SEAR_EVENT_UART_TX && e.kind != SEAR_EVENT_UART_RX) || !s.wave_baud[e.index]) return;
   const bool tx = e.kind == SEAR_EVENT_UART_TX;
   const int pin = tx ? PinWaveform::uart_tx_pin(e.index) : PinWaveform::uart_rx_pin(e.index);
   const std::size_t line = 1 + 2 * std::size_t{e.index} + (tx ? 0 : 1);

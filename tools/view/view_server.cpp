@@ -599,12 +599,9 @@ void ViewServer::send_frame(const std::string& frame, const std::string& status)
     if (c->dead.load(std::memory_order_relaxed)) continue;
     std::lock_guard<std::mutex> client_lock(c->m);
     if (c->has_frame) ++c->skipped;  // its log entries never reach this page
-    if (!(c->has_frame && c->first_frame)) {
-      c->frame = frame;
-      c->has_frame = true;
-    }
+    if (!c->has_frame || !c->first_frame) c->frame = frame;
+    c->has_frame = c->has_status = true;
     c->status = status;
-    c->has_status = true;
     c->cv.notify_one();
   }
 }
