@@ -24,7 +24,7 @@
 #include "firmware_end.h"
 #include "profile.h"
 #include "readings.h"
-#include "straight_runs.h"
+#include "local_runs.h"
 
 struct engine engine;
 
@@ -195,22 +195,19 @@ static void check_resets(void) {
                  resets, (uint64_t)engine.avr->cycle);
 }
 
-/* One instruction, or a straight run of them (straight_runs.h) when run_cycles says how many
- * cycles it takes, as simavr's own avr_callback_run_raw() runs one (avr_run() calls that through
- * avr->run for each instruction), with its two per-instruction calls made only when they have
+/* One instruction, or a local run of them (local_runs.h) of at most run_cycles cycles, as
+ * simavr's own avr_callback_run_raw() runs one (avr_run() calls that through avr->run for each
+ * instruction), with its two per-instruction calls made only when they have
  * work: the cycle timers when the first of them is due (simavr keeps them sorted, and our slice
  * end is always one of them), the interrupt controller when an interrupt is pending or was just
  * enabled (interrupt_state, which simavr's controller also returns on when 0). Those calls and
  * avr_run()'s cost more host time than the instructions did (perf on the avoider: 45% against
- * 30% in simavr's decoder); the avoider's outputs are the same bytes either way. `*ran_to` is the
- * pc the instructions left, before any interrupt is entered (UINT32_MAX after simavr's own
- * callback). */
-static inline int step(avr_t *avr, avr_cycle_count_t run_cycles, uint32_t *ran_to) {
+ * 30% in simavr's decoder); the avoider's outputs are the same bytes either way. */
+static inline int step(avr_t *avr, avr_cycle_count_t run_cycles) {
   /* simavr puts its own callback in avr->run for what an instruction cannot do inside the core
    * (the watchdog's reset); that one runs as simavr would run it. */
   if (__builtin_expect(avr->run != avr_callback_run_raw, 0)) {
     avr->run(avr);
-    *ran_to = UINT32_MAX;
     if (resets != resets_seen) check_resets(); /* only such a callback resets the chip */
     return avr->state;
   }
@@ -224,11 +221,10 @@ static inline int step(avr_t *avr, avr_cycle_count_t run_cycles, uint32_t *ran_t
     /* Most instructions leave the chip running with no timer due and no interrupt pending. */
     const avr_cycle_timer_slot_p first = avr->cycle_timers.timer;
     if (__builtin_expect(avr->state == cpu_Running && !avr->interrupt_state && first && first->when > avr->cycle, 1)) {
-      avr->pc = *ran_to = new_pc;
+      avr->pc = new_pc;
       return cpu_Running;
     }
   }
-  *ran_to = new_pc;
   const avr_cycle_timer_slot_p first = avr->cycle_timers.timer;
   avr_cycle_count_t sleep = 0;
   if (avr->state == cpu_Sleeping || (first && first->when <= avr->cycle)) sleep = avr_cycle_timer_process(avr);
@@ -260,13 +256,14 @@ static void note_halt(uint64_t cycle) {
   link->halt = engine.avr->sreg[S_I] ? SEAR_HALT_EMPTY_LOOP : SEAR_HALT_EMPTY_LOOP_IRQ_OFF;
 }
 
-/* Runs per instruction or straight run: what it checks beyond step() is kept in registers where
+/* Runs per instruction or local run: what it checks beyond step() is kept in registers where
  * nothing else changes it (the data space is allocated once; only this loop moves the lowest
  * stack pointer and the I flag it last saw), and the stack pointer is read once (the one after
- * an instruction is the one before the next). A straight run takes the stack to a new low or
- * changes the I flag only in its last instruction (the hooks of straight_runs.c end it there),
- * never jumps to itself and never leaves the image, so the checks after it see what they would
- * have seen after each of its instructions; its cycles go to each instruction's own count. */
+ * an instruction is the one before the next). A local run takes the stack to a new low or changes
+ * the I flag only in its last instruction (the hooks of local_runs.c and its budgets end it
+ * there), never jumps to itself and never leaves the image or the function it began in, so the
+ * checks after it see what they would have seen after each of its instructions, and its cycles
+ * all go to that function in the profile (counted at its first word). */
 static void run_to(uint64_t cycle) {
   avr_t *avr = engine.avr;
   set_slice_end(cycle);
@@ -281,38 +278,22 @@ static void run_to(uint64_t cycle) {
     const uint64_t before = avr->cycle;
     const uint16_t sp_before = sp;
     const int was = avr->state;
-    /* Most instructions are known by now: straight ones with their cycles learned, and the
-     * rest, which run on their own after no more than this look. */
-    const uint8_t kind = avr_straight[avr_straight_word(pc)];
-    uint64_t run_cycles = 0;
-    uint32_t planned = pc;
-    int whole = 0;
-    if (kind & STRAIGHT_CYCLES) {
+    uint64_t run_cycles = avr_run_budget[avr_run_word(pc)];
+    if (run_cycles) {
       /* The slice's end is a cycle timer, so the first timer bounds the run: it stops at the
        * instruction that reaches it, where one-by-one stepping would process it. */
       const avr_cycle_timer_slot_p first = avr->cycle_timers.timer;
-      if (was == cpu_Running && !avr->interrupt_state && first && first->when > before && avr->run == avr_callback_run_raw)
-        run_cycles = avr_straight_plan(pc, first->when - before, code_end, &planned, &whole);
+      if (was == cpu_Running && !avr->interrupt_state && first && first->when > before && avr->run == avr_callback_run_raw) {
+        if (run_cycles > first->when - before) run_cycles = first->when - before;
+      } else {
+        run_cycles = 0;
+      }
     }
-    uint32_t ran_to;
-    const int state = step(avr, run_cycles, &ran_to);
+    const int state = step(avr, run_cycles);
     sp = stack_pointer_of(data);
-    if (__builtin_expect(avr->pc == pc, 0) && was == cpu_Running && state == cpu_Running && sp == sp_before)
+    if (__builtin_expect(avr->pc == pc, 0) && !run_cycles && was == cpu_Running && state == cpu_Running && sp == sp_before)
       note_halt(before);
-    if (!run_cycles) {
-      avr_profile_count(pc, avr->cycle - before);
-      if (__builtin_expect(kind & STRAIGHT_UNSEEN, 0) && was == cpu_Running && ran_to == avr->pc)
-        avr_straight_learn(pc, avr->cycle - before);
-    } else if (__builtin_expect(whole && ran_to == planned && avr->cycle - before == run_cycles, 1)) {
-      avr_straight_runs[avr_straight_word(pc)].times++;
-    } else {
-      /* A chip that crashed inside the run (a data address past RAM) is check_state()'s. */
-      const uint64_t counted = avr_straight_count(pc, ran_to, planned, 1);
-      if (state == cpu_Running && (counted != avr->cycle - before || ran_to > planned))
-        engine_fatal("the engine lost count in a straight run from pc 0x%05x to 0x%05x: %" PRIu64
-                     " cycles counted, %" PRIu64 " run (SEAR_AVR_SINGLE_STEP=1 runs without them)",
-                     pc, ran_to, counted, (uint64_t)(avr->cycle - before));
-    }
+    avr_profile_count(pc, avr->cycle - before);
     if (__builtin_expect(avr->sreg[S_I] != irq_on, 0)) {
       irq_on = avr->sreg[S_I];
       avr_profile_interrupts_flag(irq_on, avr->pc, avr->cycle);
@@ -321,9 +302,10 @@ static void run_to(uint64_t cycle) {
     /* The chip's program counter wraps within its flash; simavr's does not (a backward jump from
      * the start reads as 0xffffffxx), so the report gives the address the chip would be at. */
     if (__builtin_expect(avr->pc >= code_end, 0))
-      engine_fatal("the ATmega2560 jumped into nowhere: pc 0x%05x is past the program's end at 0x%05x (from pc 0x%05x, "
+      engine_fatal("the ATmega2560 jumped into nowhere: pc 0x%05x is past the program's end at 0x%05x (from %spc 0x%05x, "
                    "cycle %" PRIu64 ")",
-                   (unsigned)(avr->pc & avr->flashend), code_end, pc, (uint64_t)avr->cycle);
+                   (unsigned)(avr->pc & avr->flashend), code_end,
+                   run_cycles ? "the return, call or indirect jump ending a run from " : "", pc, (uint64_t)avr->cycle);
     if (__builtin_expect(state != cpu_Running && state != cpu_Sleeping, 0)) check_state(state);
     /* The stack grows down towards .data and .bss: past their end it overwrites globals. */
     if (__builtin_expect(sp < lowest_sp, 0)) {
@@ -428,7 +410,7 @@ static void load_chip(const char *elf_path, const char *report_path) {
   engine.avr = avr;
   avr_pin_change_init(); /* its vectors before the profile hooks every vector */
   avr_profile_init(report_path, &firmware);
-  avr_straight_init(engine.code_end);
+  avr_local_runs_init(engine.code_end);
 }
 
 int main(int argc, char **argv) {

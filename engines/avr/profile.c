@@ -14,7 +14,6 @@
 #include <sim_interrupts.h>
 
 #include "engine.h"
-#include "straight_runs.h"
 
 uint64_t avr_profile_pc_cycles[AVR_PROFILE_WORDS];
 
@@ -148,6 +147,21 @@ void avr_profile_init(const char *path, const struct elf_firmware_t *firmware) {
   }
 }
 
+void avr_profile_symbol_words(uint32_t word, uint32_t *lo, uint32_t *hi) {
+  *lo = 0;
+  *hi = UINT32_MAX;
+  for (uint32_t a = 0, b = symbol_count; a < b;) { /* the first symbol past word */
+    const uint32_t mid = a + (b - a) / 2;
+    if (symbols[mid].addr / 2 <= word) {
+      *lo = symbols[mid].addr / 2;
+      a = mid + 1;
+    } else {
+      *hi = symbols[mid].addr / 2;
+      b = mid;
+    }
+  }
+}
+
 void avr_profile_sleep(uint64_t cycles) { sleep_cycles += cycles; }
 
 uint64_t avr_profile_busy_cycles(void) {
@@ -165,7 +179,6 @@ void avr_profile_write(void) {
   size_t n = 0;
 #define OUT(...) n += (size_t)snprintf(text + n, n < sizeof text ? sizeof text - n : 0, __VA_ARGS__)
   const avr_t *avr = engine.avr;
-  avr_straight_settle();
   const uint64_t cycles = avr->cycle;
   const uint64_t busy = avr_profile_busy_cycles();
   OUT("{\n  \"engine\": \"avr\",\n  \"clock_hz\": %" PRIu64 ",\n  \"cycles\": %" PRIu64 ",\n  \"busy_cycles\": %" PRIu64

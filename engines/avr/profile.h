@@ -14,6 +14,9 @@ struct elf_firmware_t;
 void avr_profile_init(const char *path, const struct elf_firmware_t *firmware);
 /* The instruction at byte address pc took `cycles`. */
 static inline void avr_profile_count(uint32_t pc, uint64_t cycles);
+/* The flash words [*lo, *hi) whose cycles the report gives to the same symbol as `word`'s: a
+ * function's, for one that a run (local_runs.h) may stay within. */
+void avr_profile_symbol_words(uint32_t word, uint32_t *lo, uint32_t *hi);
 /* The chip slept this many cycles. */
 void avr_profile_sleep(uint64_t cycles);
 /* The I flag changed: `on` is its new value, `pc` where the chip goes on from (after a CLI, the

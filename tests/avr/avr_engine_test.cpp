@@ -392,17 +392,17 @@ TEST(AvrEngine, TheSameRunTwiceGivesTheSameBytes) {
     EXPECT_TRUE(a.file(file) == b.file(file)) << file << " differs between two runs";
 }
 
-// The engine hands simavr straight runs of instructions (engines/avr/straight_runs.h) and keeps
-// every observation exact: a run gives the same bytes as one instruction per call
+// The engine hands simavr local runs of instructions (engines/avr/local_runs.h) and keeps every
+// observation exact: a run gives the same bytes as one instruction per call
 // (SEAR_AVR_SINGLE_STEP), in every file the run writes and in its summary but for the summary's
 // wall-clock figures (wall_time_s, real_time_factor, step_wall_us) and summary.txt, which prints
 // two of them. The reference rover's AVR build reaches every device kind (the LMS200 from 2 s, at
 // 500 kbaud from 2.4 s, SPI, TWI, pin-change and timer interrupts, the ADC); the avoider spends
 // its cycles in delay loops that take interrupts; both write the engine's profile (per-function
 // cycles, interrupt latency, interrupts-off stretches, the stack's low mark).
-class StraightRuns : public ::testing::TestWithParam<const char*> {};
+class LocalRuns : public ::testing::TestWithParam<const char*> {};
 
-TEST_P(StraightRuns, ChangeNoByteOfWhatTheRunWrites) {
+TEST_P(LocalRuns, ChangeNoByteOfWhatTheRunWrites) {
   const auto run = [](const char* single_step) {
     TempDir dir;
     if (single_step) setenv("SEAR_AVR_SINGLE_STEP", single_step, 1);
@@ -428,19 +428,20 @@ TEST_P(StraightRuns, ChangeNoByteOfWhatTheRunWrites) {
   ASSERT_EQ(single.size(), runs.size());
   for (const auto& [name, bytes] : single) {
     ASSERT_TRUE(runs.count(name)) << name;
-    EXPECT_TRUE(runs.at(name) == bytes) << name << " differs with straight runs";
+    EXPECT_TRUE(runs.at(name) == bytes) << name << " differs with local runs";
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Projects, StraightRuns, ::testing::Values("default.xml", "avoider_hills.xml"));
+INSTANTIATE_TEST_SUITE_P(Projects, LocalRuns, ::testing::Values("default.xml", "avoider_hills.xml"));
 
-// What the projects above never do inside a straight run: turn interrupts off by a store to SREG
-// (STS, not CLI) and take the stack to a new low by stores to SPH:SPL and PUSHes
-// (tests/avr/firmware/sreg_sp_stores.c, from its second pass on). Interrupts are off for the ten
-// NOPs and the SEI after the store, one cycle each (instruction set manual); the stack's low mark
-// is main's return address (3 bytes on this 3-byte-PC part), the 40 bytes it moves down and the
-// 2 it pushes. A run that went on past the stores saw 1 cycle and 5 bytes (the first pass's).
-TEST(AvrEngine, StoresToSregAndTheStackPointerAreSeenAtTheirCycleInAStraightRun) {
+// What the projects above never do inside a local run: turn interrupts off and on by stores to
+// SREG (STS and OUT, not CLI and SEI) and take the stack to a new low by stores to SPH:SPL and
+// PUSHes (tests/avr/firmware/sreg_sp_stores.c, once). Interrupts are off for the ten NOPs and
+// the OUT after the store, one cycle each (instruction set manual); the stack's low mark is
+// main's return address (3 bytes on this 3-byte-PC part), the 40 bytes it moves down and the 2
+// it pushes. Runs that went on past the stores (the write hooks taken out) saw no stretch at all
+// and 3 bytes.
+TEST(AvrEngine, StoresToSregAndTheStackPointerAreSeenAtTheirCycleInALocalRun) {
   TempDir dir;
   const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("sreg_sp_stores.c")), "", 0.01), "--no-plots");
   ASSERT_EQ(run.exit_code, 0) << run.err;
@@ -448,6 +449,24 @@ TEST(AvrEngine, StoresToSregAndTheStackPointerAreSeenAtTheirCycleInAStraightRun)
   EXPECT_EQ(report["interrupts_off"]["longest_cycles"].get<int>(), 11) << report.dump();
   EXPECT_EQ(report["interrupts_off"]["from"].get<std::string>().rfind("main+", 0), 0u) << report.dump();
   EXPECT_EQ(report["stack"]["worst_depth_bytes"].get<int>(), 45) << report.dump();
+}
+
+// Where a local run must end when the path to it is one-cycle instructions all the way
+// (tests/avr/firmware/run_edges.c): after a CLI, so that interrupts are off for the ten NOPs and
+// the SEI, one cycle each (instruction set manual); after a jump out of a function, so that each
+// function's cycles are its own: 1000 calls of tail_jump (two NOPs and an RJMP, 1 + 1 + 2 cycles)
+// and of fifteen_cycles (ten NOPs and a RET, 10 + 5 on this 3-byte-PC part). A run one
+// instruction longer saw 12 cycles off; one across the jump gave 14000 and 5000.
+TEST(AvrEngine, LocalRunsEndAfterACliAndAtAFunctionsEdge) {
+  TempDir dir;
+  const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("run_edges.c")), "", 0.01), "--no-plots");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto report = nlohmann::json::parse(run.file("rover.main.avr.json"));
+  EXPECT_EQ(report["interrupts_off"]["longest_cycles"].get<int>(), 11) << report.dump();
+  std::map<std::string, long> cycles;
+  for (const auto& f : report["top_functions"]) cycles[f["name"].get<std::string>()] = f["cycles"].get<long>();
+  EXPECT_EQ(cycles["tail_jump"], 4000) << report.dump();
+  EXPECT_EQ(cycles["fifteen_cycles"], 15000) << report.dump();
 }
 
 // The bundled avoider's AVR build, unmodified, in its own world (assets/projects/avoider_hills.xml,
@@ -712,7 +731,7 @@ INSTANTIATE_TEST_SUITE_P(
                 "stack ran into .bss"},
         // The watchdog at its shortest (15 ms, datasheet table 12-2) and never reset.
         Hostile{"#include <avr/wdt.h>\nint main(void) { wdt_enable(WDTO_15MS); for (;;) {} }\n", "reset"},
-        // A read past RAMEND (0x21FF) by an LD the engine already runs inside a straight run (200
+        // A read past RAMEND (0x21FF) by an LD the engine already runs inside a local run (200
         // passes read a global first): reported as the chip's crash, with simavr's reason.
         Hostile{"#include <stdint.h>\nvolatile uint8_t sink, other;\nvolatile uint8_t *volatile p = &other;\n"
                 "int main(void) { for (uint8_t i = 0;; ++i) { if (i == 200) p = (volatile uint8_t *)0x3000;\n"
