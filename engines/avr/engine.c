@@ -261,9 +261,10 @@ static void note_halt(uint64_t cycle) {
  * stack pointer and the I flag it last saw), and the stack pointer is read once (the one after
  * an instruction is the one before the next). A local run takes the stack to a new low or changes
  * the I flag only in its last instruction (the hooks of local_runs.c and its budgets end it
- * there), never jumps to itself and never leaves the image or the function it began in, so the
- * checks after it see what they would have seen after each of its instructions, and its cycles
- * all go to that function in the profile (counted at its first word). */
+ * there), never jumps to itself, and leaves the function it began in (or the image) only by its
+ * last instruction, so the checks after it see what they would have seen after each of its
+ * instructions, and its cycles all go to that function in the profile (counted at its first
+ * word). */
 static void run_to(uint64_t cycle) {
   avr_t *avr = engine.avr;
   set_slice_end(cycle);
@@ -305,7 +306,7 @@ static void run_to(uint64_t cycle) {
       engine_fatal("the ATmega2560 jumped into nowhere: pc 0x%05x is past the program's end at 0x%05x (from %spc 0x%05x, "
                    "cycle %" PRIu64 ")",
                    (unsigned)(avr->pc & avr->flashend), code_end,
-                   run_cycles ? "the return, call or indirect jump ending a run from " : "", pc, (uint64_t)avr->cycle);
+                   run_cycles ? "the last instruction of a run from " : "", pc, (uint64_t)avr->cycle);
     if (__builtin_expect(state != cpu_Running && state != cpu_Sleeping, 0)) check_state(state);
     /* The stack grows down towards .data and .bss: past their end it overwrites globals. */
     if (__builtin_expect(sp < lowest_sp, 0)) {

@@ -14,8 +14,9 @@ uint16_t avr_run_budget[AVR_PROFILE_WORDS];
 
 /* Straight: goes on to the next instruction and changes the I flag only by a store to SREG
  * (hooked); its size in words, else 0 for the rest: skips, branches, jumps, calls, returns,
- * BSET/BCLR, which decode() sorts, and SLEEP, BREAK, WDR, SPM, DES, the XMEGA-only XCH and LA*
- * and reserved encodings, which run alone. */
+ * BSET/BCLR, which decode() sorts, and SLEEP, BREAK, WDR, SPM, DES, LPM and ELPM into R0 (0x95c8,
+ * 0x95d8, rare and left alone), the XMEGA-only XCH and LA* and reserved encodings, which run
+ * alone. */
 static uint8_t straight_words(uint16_t op) {
   const uint8_t one = 1, two = 2;
   switch (op >> 12) {
@@ -135,10 +136,11 @@ static struct instruction decode(const uint8_t *flash, uint32_t w, uint32_t word
   } else if ((op & 0xff0f) == 0x9408 && ((op >> 4) & 7) != 7) { /* BSET, BCLR but SEI and CLI */
     to[n++] = (int64_t)w + 1;
   } else {
-    const int last = op == 0x9478 || op == 0x94f8 ||                   /* SEI, CLI */
-                     (op & 0xfe0e) == 0x940e || (op & 0xf000) == 0xd000 || /* CALL, RCALL */
-                     op == 0x9409 || op == 0x9419 || op == 0x9509 || op == 0x9519 || /* (E)IJMP, (E)ICALL */
-                     op == 0x9508 || op == 0x9518;                     /* RET, RETI */
+    /* IJMP and EIJMP run alone: through Z to themselves they are a halt, which the loop must
+     * see when they begin. The calls and returns move the stack pointer, so they cannot be one. */
+    const int last = op == 0x9478 || op == 0x94f8 ||                         /* SEI, CLI */
+                     (op & 0xfe0e) == 0x940e || (op & 0xf000) == 0xd000 ||    /* CALL, RCALL */
+                     op == 0x9509 || op == 0x9519 || op == 0x9508 || op == 0x9518; /* (E)ICALL, RET, RETI */
     in.role = last ? LAST : ALONE;
     return in;
   }
@@ -201,7 +203,7 @@ static int set_budgets(const uint8_t *flash, uint32_t words) {
       queue[tail++] = u;
     }
   }
-  /* A LAST one that begins a run runs alone: an IJMP to itself is a halt the loop must see. */
+  /* A run that would begin at a LAST one is that one instruction: it runs as a single step. */
   for (uint32_t w = 0; w < words; ++w)
     avr_run_budget[w] = code[w].role != INSIDE ? 0 : (uint16_t)(dist[w] < UINT16_MAX ? dist[w] : UINT16_MAX);
   ok = 1;
@@ -227,7 +229,7 @@ int avr_local_runs_init(uint32_t code_end) {
     const uint16_t op = (uint16_t)(avr->flash[pc] | avr->flash[pc + 1] << 8);
     if (op == 0x95e8 || op == 0x95f8) return 0; /* SPM, SPM Z+ */
   }
-  if (!set_budgets(avr->flash, words)) engine_fatal("out of memory for the engine's local runs");
+  if (words && !set_budgets(avr->flash, words)) engine_fatal("out of memory for the engine's local runs");
   avr_register_io_write(avr, R_SREG, sreg_stored, NULL);
   avr_register_io_write(avr, R_SPL, stack_pointer_stored, NULL);
   avr_register_io_write(avr, R_SPH, stack_pointer_stored, NULL);

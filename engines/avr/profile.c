@@ -147,16 +147,28 @@ void avr_profile_init(const char *path, const struct elf_firmware_t *firmware) {
   }
 }
 
+/* The words the report counts: the code simavr loaded, without the .data image after it. */
+static uint32_t counted_words(void) {
+  const avr_t *avr = engine.avr;
+  return avr->codeend / 2 + 1 < AVR_PROFILE_WORDS ? avr->codeend / 2 + 1 : AVR_PROFILE_WORDS;
+}
+
 void avr_profile_symbol_words(uint32_t word, uint32_t *lo, uint32_t *hi) {
+  const uint32_t counted = counted_words();
+  if (word >= counted) { /* counted by no symbol */
+    *lo = counted;
+    *hi = UINT32_MAX;
+    return;
+  }
   *lo = 0;
-  *hi = UINT32_MAX;
+  *hi = counted;
   for (uint32_t a = 0, b = symbol_count; a < b;) { /* the first symbol past word */
     const uint32_t mid = a + (b - a) / 2;
     if (symbols[mid].addr / 2 <= word) {
       *lo = symbols[mid].addr / 2;
       a = mid + 1;
     } else {
-      *hi = symbols[mid].addr / 2;
+      if (symbols[mid].addr / 2 < *hi) *hi = symbols[mid].addr / 2;
       b = mid;
     }
   }
@@ -199,7 +211,7 @@ void avr_profile_write(void) {
   enum { TOP = 10 };
   struct function_total top[TOP];
   int tops = 0;
-  const uint32_t code_words = avr->codeend / 2 + 1 < AVR_PROFILE_WORDS ? avr->codeend / 2 + 1 : AVR_PROFILE_WORDS;
+  const uint32_t code_words = counted_words();
   for (uint32_t s = 0; s < symbol_count; ++s) {
     if (s + 1 < symbol_count && symbols[s + 1].addr == symbols[s].addr) continue; /* aliases: the last name */
     const uint32_t from = symbols[s].addr / 2;

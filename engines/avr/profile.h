@@ -12,7 +12,8 @@ struct elf_firmware_t;
 
 /* `path` may be NULL: nothing is written. */
 void avr_profile_init(const char *path, const struct elf_firmware_t *firmware);
-/* The instruction at byte address pc took `cycles`. */
+/* The instructions from byte address pc took `cycles`: one, or a local run (local_runs.h) that
+ * stays within the symbol pc is in. */
 static inline void avr_profile_count(uint32_t pc, uint64_t cycles);
 /* The flash words [*lo, *hi) whose cycles the report gives to the same symbol as `word`'s: a
  * function's, for one that a run (local_runs.h) may stay within. */

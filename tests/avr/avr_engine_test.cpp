@@ -456,7 +456,7 @@ TEST(AvrEngine, StoresToSregAndTheStackPointerAreSeenAtTheirCycleInALocalRun) {
 // the SEI, one cycle each (instruction set manual); after a jump out of a function, so that each
 // function's cycles are its own: 1000 calls of tail_jump (two NOPs and an RJMP, 1 + 1 + 2 cycles)
 // and of fifteen_cycles (ten NOPs and a RET, 10 + 5 on this 3-byte-PC part). A run one
-// instruction longer saw 12 cycles off; one across the jump gave 14000 and 5000.
+// instruction longer saw 10 cycles off; runs across the jump gave about 14000 and 5000.
 TEST(AvrEngine, LocalRunsEndAfterACliAndAtAFunctionsEdge) {
   TempDir dir;
   const auto run = run_sear(dir, rover_project(avr_mcu(test_firmware("run_edges.c")), "", 0.01), "--no-plots");
@@ -664,7 +664,7 @@ INSTANTIATE_TEST_SUITE_P(Engines, BuildFlags, ::testing::Values("native", "avr")
 struct Halting {
   const char* source;
   const char* interrupts;
-  int cycles;  // from the SBI that sets pin 13 to the loop's first RJMP
+  int cycles;  // from the SBI that sets pin 13 to the first jump of the loop
 };
 
 class AvrHalt : public ::testing::TestWithParam<Halting> {};
@@ -696,7 +696,13 @@ INSTANTIATE_TEST_SUITE_P(
                               "int main(void) { DDRB |= _BV(PB7); PORTB |= _BV(PB7); return 0; }\n",
                               // SBI, two LDI (return 0), RET (5 cycles with the 2560's 3-byte PC),
                               // crt's JMP to _exit, CLI
-                              "off", 2 + 1 + 1 + 5 + 3 + 1}),
+                              "off", 2 + 1 + 1 + 5 + 3 + 1},
+                      // An IJMP to itself (Z set by two LDI), which a local run may not end with.
+                      Halting{"#include <avr/io.h>\n"
+                              "int main(void) { DDRB |= _BV(PB7); PORTB |= _BV(PB7);\n"
+                              "  __asm__ volatile(\"ldi r30, lo8(pm(1f))\\n\\tldi r31, hi8(pm(1f))\\n\\tnop\\n1:\\tijmp\");\n"
+                              "  return 0; }\n",
+                              "off", 2 + 1 + 1 + 1}),  // SBI, two LDI, NOP
     case_name<Halting>);
 
 // A firmware the chip cannot survive stops its MCU with a report saying what the chip did.

@@ -13,7 +13,7 @@ int main(void) {
   __asm__ volatile(
       "sts 0x5f, %0\n\t" /* SREG in the data space */
       "nop\n\tnop\n\tnop\n\tnop\n\tnop\n\tnop\n\tnop\n\tnop\n\tnop\n\tnop\n\t"
-      "out __SREG__, %2\n\t"
+      "out __SREG__, %2\n\t" /* on again: simavr's core stops after it by itself */
       "in r24, __SP_L__\n\t"
       "in r25, __SP_H__\n\t"
       "sub r24, %1\n\t"
