@@ -279,7 +279,7 @@ static void run_to(uint64_t cycle) {
     const uint64_t before = avr->cycle;
     const uint16_t sp_before = sp;
     const int was = avr->state;
-    uint64_t run_cycles = avr_run_budget[avr_run_word(pc)];
+    uint64_t run_cycles = avr_run_budget[avr_profile_word(pc)];
     if (run_cycles) {
       /* The slice's end is a cycle timer, so the first timer bounds the run: it stops at the
        * instruction that reaches it, where one-by-one stepping would process it. */

@@ -24,6 +24,4 @@ extern uint16_t avr_run_budget[AVR_PROFILE_WORDS];
  * those registers already hooked by someone else. */
 int avr_local_runs_init(uint32_t code_end);
 
-static inline uint32_t avr_run_word(uint32_t pc) { return (pc >> 1) & (AVR_PROFILE_WORDS - 1); }
-
 #endif

@@ -34,8 +34,11 @@ void avr_profile_write(void);
 #define AVR_PROFILE_WORDS 0x20000u
 extern uint64_t avr_profile_pc_cycles[AVR_PROFILE_WORDS];
 
+/* The flash word of byte address pc, the index of this and local_runs.h's per-word tables. */
+static inline uint32_t avr_profile_word(uint32_t pc) { return (pc >> 1) & (AVR_PROFILE_WORDS - 1); }
+
 static inline void avr_profile_count(uint32_t pc, uint64_t cycles) {
-  avr_profile_pc_cycles[(pc >> 1) & (AVR_PROFILE_WORDS - 1)] += cycles;
+  avr_profile_pc_cycles[avr_profile_word(pc)] += cycles;
 }
 
 #endif
