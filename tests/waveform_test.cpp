@@ -104,10 +104,11 @@ TEST(Waveform, TheFirmwaresDutiesPulsesAndBytesReadBackThroughGtkwave) {
   // Every HAL call takes no time (hal_call_cycles 0), so each moment is a delay's end.
   const std::string mcu = std::string("    <mcu name=\"main\" hal_call_cycles=\"0\">\n      <firmware executable=\"") +
                           WAVEFORM_PROBE + "\"/>\n      <uart port=\"1\" loopback=\"true\"/>\n    </mcu>\n";
-  const SearRun run = run_sear(dir, rover_project(mcu, "", 0.1), "--quiet");
+  // --uart-frames: the values show the UART bytes only with it.
+  const SearRun run = run_sear(dir, rover_project(mcu, "", 0.1), "--quiet --uart-frames");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   TempDir again_dir;
-  const SearRun again = run_sear(again_dir, read_file(dir.path() / "project.xml"), "--quiet");
+  const SearRun again = run_sear(again_dir, read_file(dir.path() / "project.xml"), "--quiet --uart-frames");
   for (const char* file : {"rover.main.pins.vcd", "rover.main.values.vcd"}) {
     EXPECT_EQ(again.file(file), run.file(file));  // deterministic
     // The reader kept every change the file holds.
@@ -247,8 +248,9 @@ TEST(Waveform, UartPinsCarryTheirFramesForALogicAnalysersDecoder) {
 }
 
 // Without --uart-frames a begun USART's pins show 'x' from the port's uart_begin on, with no edge
-// after it: a flat idle line would say the port was silent while it sent "AAB" and 64 bytes. The
-// header says how to have the frames drawn; everything else is as with them, byte for byte.
+// after it: a flat idle line would say the port was silent while it sent "AAB" and 64 bytes; and
+// the values leave the bytes out. Both headers say how to have them drawn; everything else is as
+// with them, change for change.
 TEST(Waveform, WithoutUartFramesABegunUsartsPinsShowUnknownAndNothingElseChanges) {
   TempDir dir, framed_dir;
   const SearRun run = run_sear(dir, rover_project(waveform_probe_mcu("0"), "", 0.1), "--quiet");
@@ -277,7 +279,19 @@ TEST(Waveform, WithoutUartFramesABegunUsartsPinsShowUnknownAndNothingElseChanges
   EXPECT_EQ(with.at("D17"), (std::vector<Change>{{0, kZ}, {60 * kMs, 1}}));
   for (const char* usart : {"D16", "D17", "D18_loopback", "D19_loopback"}) without.at(usart) = with.at(usart);
   EXPECT_EQ(without, with);
-  EXPECT_EQ(run.file("rover.main.values.vcd"), framed.file("rover.main.values.vcd"));
+  const std::string values = run.file("rover.main.values.vcd");
+  EXPECT_NE(values.find("$comment UART bytes are in the UART logs: sear run --uart-frames shows them here too $end"),
+            std::string::npos);
+  const Waves plain = read_vcd(values);
+  Waves full = read_vcd(framed.file("rover.main.values.vcd"));
+  // 'z' at 0, the 64 bytes, a 'z' between the two of each equal pair, and one after the last.
+  EXPECT_EQ(full.at("uart2_tx").size(), 1u + 64u + 32u + 1u);
+  for (const char* line : {"uart0_tx_console.rx", "uart0_rx_console.tx", "uart1_tx_loopback", "uart1_rx_loopback",
+                           "uart2_tx", "uart2_rx", "uart3_tx", "uart3_rx"}) {
+    EXPECT_EQ(plain.count(line), 0u) << line;
+    EXPECT_EQ(full.erase(line), 1u) << line;
+  }
+  EXPECT_EQ(plain, full);
 }
 
 // Each pin is named after what is wired to it (a motor's inputs, a sensor's, a UART's far end, a

@@ -63,9 +63,18 @@ class SerialWire {
     int64_t from_ns;
     uint32_t baud;
   };
+  // A frame's offsets from its start edge at one rate: its stop bit's start, its end, and where
+  // the receiver hunts again.
+  struct FrameTimes {
+    uint32_t baud;
+    int64_t stop_bit_ns;
+    int64_t frame_ns;
+    int64_t hunt_again_ns;
+  };
 
   static void set_baud(std::vector<BaudChange>& list, uint32_t baud, int64_t from_ns);
   uint32_t baud_at(int64_t t_ns) const;
+  const FrameTimes& times(uint32_t baud) const;  // of the last rate asked for, kept
   // Up to where the line is known when every frame ending before until_ns has been sent.
   int64_t known_until(int64_t until_ns) const;
   int level_at(int64_t t_ns) const;
@@ -84,6 +93,7 @@ class SerialWire {
   int64_t last_end_ns_ = INT64_MIN;
   uint32_t last_sender_baud_ = 0;
   uint64_t framing_errors_ = 0;
+  mutable FrameTimes times_{0, 0, 0, 0};
 };
 
 }  // namespace sear

@@ -643,10 +643,19 @@ bool RayScene::refine(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
     }
   if (!found) return false;
   // Anything else within rounding before it: the foot of a wall in the ground, a box on a box.
+  // The stretch is a fraction of a millimetre, so most boxes lie clear of its own box: that test
+  // first, with room to spare, spares the slab test's three divisions for every geom of the
+  // world on every ray (most of refine()'s own time on a sonar cone's rays).
   const double from = std::max(0.0, best.distance_m - slack);
+  const Eigen::Vector3d start = origin + from * dir;
+  const Eigen::Vector3d end = origin + best.distance_m * dir;
+  const Eigen::Vector3d near_lo = start.cwiseMin(end).array() - 2 * detail::kAabbSlack_m;
+  const Eigen::Vector3d near_hi = start.cwiseMax(end).array() + 2 * detail::kAabbSlack_m;
   for (const StaticGeom& g : all_) {
     if (g.geom == struck || (ignore_entity >= 0 && g.entity == ignore_entity)) continue;
-    const Eigen::Vector3d start = origin + from * dir;
+    if (near_hi.x() < g.aabb[0] || near_lo.x() > g.aabb[1] || near_hi.y() < g.aabb[2] || near_lo.y() > g.aabb[3] ||
+        near_hi.z() < g.aabb[4] || near_lo.z() > g.aabb[5])
+      continue;
     if (!detail::segment_meets_box(start, dir, best.distance_m - from, g.aabb)) continue;
     exact(g, origin, dir, from, best.distance_m, best);
   }

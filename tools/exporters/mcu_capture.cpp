@@ -68,6 +68,8 @@ std::unique_ptr<BoundedFile> McuCapture::open(const std::string& name, const std
 }
 
 McuCapture::PortFiles& McuCapture::port(State& s, int n) {
+  const bool on_link = n >= 0 && n < SEAR_LINK_UARTS;
+  if (on_link && s.link_ports[static_cast<std::size_t>(n)]) return *s.link_ports[static_cast<std::size_t>(n)];
   auto it = s.ports.find(n);
   if (it != s.ports.end()) return it->second;
   PortFiles p;
@@ -78,7 +80,9 @@ McuCapture::PortFiles& McuCapture::port(State& s, int n) {
   p.text->write(fmt::format("# SEAR UART capture: mcu {}, port {}, 8N1\n"
                             "# time_s (end of the stop bit), direction (tx, rx, or baud when the port starts), byte in hex\n",
                             s.mcu.id, n));
-  return s.ports.emplace(n, std::move(p)).first->second;
+  PortFiles& files = s.ports.emplace(n, std::move(p)).first->second;  // a map's entries stay put
+  if (on_link) s.link_ports[static_cast<std::size_t>(n)] = &files;
+  return files;
 }
 
 void McuCapture::end_line(State& s, std::int64_t time_ns) {
@@ -125,8 +129,10 @@ void McuCapture::write_event(State& s, const sear_event& e) {
 // follow it: sorting by time, stably, restores one timeline and keeps the order of equal times.
 void McuCapture::release(State& s, std::int64_t until_ns) {
   if (s.pending.empty()) return;
-  std::stable_sort(s.pending.begin(), s.pending.end(),
-                   [](const sear_event& a, const sear_event& b) { return a.time_ns < b.time_ns; });
+  // Most steps' events already are (a stable sort asks for a buffer of its own each time).
+  const auto earlier = [](const sear_event& a, const sear_event& b) { return a.time_ns < b.time_ns; };
+  if (!std::is_sorted(s.pending.begin(), s.pending.end(), earlier))
+    std::stable_sort(s.pending.begin(), s.pending.end(), earlier);
   const std::int64_t limit = std::min(until_ns, s.stop_ns);
   std::size_t n = 0;
   for (; n < s.pending.size() && s.pending[n].time_ns <= until_ns; ++n) {
@@ -146,6 +152,8 @@ void McuCapture::release(State& s, std::int64_t until_ns) {
 // times before the stop bit ends, then carries the data bits from the least significant, then
 // the stop bit (high); each bit's edge rounded to the nanosecond as the HAL rounds the byte's end.
 void McuCapture::queue_wave(State& s, const sear_event& e) {
+  const bool byte = e.kind == SEAR_EVENT_UART_TX || e.kind == SEAR_EVENT_UART_RX;
+  if (byte && !s.mcu.waveform_uart_bytes && !s.mcu.uart_frames) return;  // neither waveform shows it
   s.wave_pending.push(0, e);
   if (!s.mcu.uart_frames || e.index >= SEAR_LINK_UARTS) return;
   std::array<std::int64_t, 10>& before_end = s.wave_before_end[e.index];

@@ -36,12 +36,16 @@ class McuCapture : public McuListener {
   struct Mcu {
     std::string id;    // "robot.mcu", the stem of its files
     int console_uart;  // -1: none
-    bool waveform_uart_bytes = true;  // the VCD shows each UART byte (PinWaveform)
+    // values.vcd shows each UART byte (PinWaveform). Off in `sear run` unless --uart-frames: at
+    // 500 kbaud the bytes are all but 3 kB of the reference rover's file (0.6 MB a simulated
+    // second, past the default size limit in seven minutes) and cost the reference rover a quarter of its speed, for a view
+    // the UART logs already give with the same times.
+    bool waveform_uart_bytes = true;
     std::vector<std::string> pin_labels = {};  // what is wired to each pin (exporters/pin_labels.hpp)
     // pins.vcd draws each UART byte's frame on its USART pins. Off by default: at 500 kbaud the
     // frames are 96 % of the file (2 MB a simulated second), which then reaches the default size
     // limit in two minutes and loses every later edge of every pin, and cost the reference rover
-    // a fifth of its speed, for a view the bytes in the logs and values.vcd already give.
+    // a fifth of its speed, for a view the bytes in the logs already give.
     bool uart_frames = false;
   };
   // `echo`: console lines also go to standard output, with the MCU and the sim time; a closed
@@ -75,6 +79,9 @@ class McuCapture : public McuListener {
     std::int64_t line_time = 0;             // of the console's last byte
     std::int64_t stop_ns = INT64_MAX;
     std::map<int, PortFiles> ports;
+    // The link's ports' entries in `ports`, once opened: a 500 kbaud line asks for one 50 times a
+    // millisecond, and the map's search was a fifth of writing its byte.
+    std::array<PortFiles*, SEAR_LINK_UARTS> link_ports{};
     std::vector<sear_event> pending;  // not yet due, in the order they came
     std::map<int, std::string> never_sent;  // per port
     std::int64_t closed_ns = -1;            // when its wire stopped: -1 while it runs

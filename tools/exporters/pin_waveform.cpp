@@ -63,8 +63,10 @@ PinWaveform::PinWaveform(BoundedFile& pins, BoundedFile& values, const std::stri
   pins_.file.write(header + "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n" + initial + "$end\n");
 
   header = fmt::format("$comment SEAR PWM duties (0..255), servo pulses (us){} of mcu {} $end\n",
-                       uart_bytes_ ? " and UART bytes" : "", mcu_id) +
-           scope;
+                       uart_bytes_ ? " and UART bytes" : "", mcu_id);
+  if (!uart_bytes_)
+    header += "$comment UART bytes are in the UART logs: sear run --uart-frames shows them here too $end\n";
+  header += scope;
   initial.clear();
   int next = 0;
   auto declare = [&](int bits, const std::string& name) {

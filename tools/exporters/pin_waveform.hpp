@@ -34,8 +34,8 @@ class PinWaveform {
   static constexpr std::uint8_t kLineLevel = 0xF0;
 
   // Writes the headers to `pins` and `values`, with every pin an input ('z') and nothing on any
-  // port at #0. Without `uart_bytes` the ports' bytes are left out of the values: a port
-  // streaming at 500 kbaud adds about 1.2 MB a simulated second (some 23 bytes a byte).
+  // port at #0. Without `uart_bytes` the ports' bytes are left out of the values, and the header
+  // says where they are: a port streaming at 500 kbaud adds about 0.6 MB a simulated second.
   // `labels` (exporters/pin_labels.hpp), one a pin or none, name what is wired to each pin:
   // pin 22 is "D22_sonar.trig" where "D22" alone would say nothing, and a value on it is named
   // after it ("D5_pwm_left.pwm", "uart1_tx_gps.rx").

@@ -84,8 +84,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(finite_number(0.001, 1048576.0, false, "a size in MiB 0.001..1048576"));
   run_cmd->add_flag("--uart-frames", run.uart_frames,
-                    "Draw each UART byte's frame, bit by bit, on its USART pins in OUT/ROBOT.MCU.pins.vcd, for a logic "
-                    "analyser's UART decoder (without it those pins show x once their port has begun)");
+                    "Draw the UART traffic in the waveforms: each byte's frame, bit by bit, on its USART pins in "
+                    "OUT/ROBOT.MCU.pins.vcd, for a logic analyser's UART decoder, and its value in values.vcd (without it "
+                    "those pins show x once their port has begun, and the bytes are in the UART logs only)");
   run_cmd->add_flag("--keep-going", run.keep_going,
                     "When a firmware crashes, exits or hangs, go on without that MCU (the run still fails at the end)");
   run_cmd->add_option("--junit", run.junit,

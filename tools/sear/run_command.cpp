@@ -248,7 +248,8 @@ int run_command(const RunOptions& options) {
     std::vector<McuCapture::Mcu> mcus;
     for (const auto& robot : project->robots)
       for (const auto& mcu : robot.mcus)
-        mcus.push_back({robot.name + "." + mcu.name, mcu.console_uart, true, pin_labels(mcu), options.uart_frames});
+        mcus.push_back({robot.name + "." + mcu.name, mcu.console_uart, options.uart_frames, pin_labels(mcu),
+                        options.uart_frames});
     McuCapture capture(out_dir, mcus, !options.quiet, max_file_bytes);
     LockstepOptions lockstep_options;
     lockstep_options.mcu.host_serial = host_ports.serial_ends();
