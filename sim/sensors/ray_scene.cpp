@@ -663,6 +663,23 @@ bool RayScene::refine(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
   return true;
 }
 
+bool RayScene::clear_of(const double box[6], double terrain_ceiling_m, int ignore_entity) const {
+  // Every hit a cast reports lies on a geom, within rounding (ODE's boxes are exact in double);
+  // twice the slack of the slab tests keeps a grazing touch counted.
+  constexpr double margin = 2 * detail::kAabbSlack_m;
+  for (const StaticGeom& g : all_) {
+    if (ignore_entity >= 0 && g.entity == ignore_entity) continue;
+    if (g.geom == terrain_) {
+      if (!(box[4] - margin > terrain_ceiling_m)) return false;
+      continue;
+    }
+    if (box[1] + margin >= g.aabb[0] && box[0] - margin <= g.aabb[1] && box[3] + margin >= g.aabb[2] &&
+        box[2] - margin <= g.aabb[3] && box[5] + margin >= g.aabb[4] && box[4] - margin <= g.aabb[5])
+      return false;
+  }
+  return true;
+}
+
 RayHit RayScene::ode_nearest(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double limit_m,
                              int ignore_entity) const {
   RayHit best;

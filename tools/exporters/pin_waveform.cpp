@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cstring>
 
+#include "exporters/digit_pairs.hpp"
 #include "scene/board_pins.hpp"
 
 namespace sear {
@@ -113,14 +114,10 @@ void PinWaveform::stamp(Stream& stream, std::int64_t time_ns) {
     }
     std::memcpy(end, stream.ms_text, sizeof stream.ms_text);  // the whole buffer: a fixed-size copy
     end += stream.ms_len;
-    static constexpr char kPairs[] =
-        "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
-        "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
-        "8081828384858687888990919293949596979899";
     const auto below = static_cast<std::uint32_t>(time_ns - ms * 1000000);
-    std::memcpy(end, kPairs + 2 * (below / 10000), 2);
-    std::memcpy(end + 2, kPairs + 2 * (below / 100 % 100), 2);
-    std::memcpy(end + 4, kPairs + 2 * (below % 100), 2);
+    two_digits(end, below / 10000);
+    two_digits(end + 2, below / 100 % 100);
+    two_digits(end + 4, below % 100);
     end += 6;
   }
   *end++ = '\n';
