@@ -201,7 +201,11 @@ void SerialWire::decode(int64_t known_until_ns) {
 }
 
 void SerialWire::forget_before(int64_t t_ns) {
-  while (!frames_.empty() && frames_.front().end_ns <= t_ns) frames_.pop_front();
+  // Vectors rather than deques: a line holds a quantum's frames or so, and indexing a deque was
+  // nearly half of reading a 500 kbaud line's bytes (callgrind).
+  std::size_t over = 0;
+  while (over < frames_.size() && frames_[over].end_ns <= t_ns) ++over;
+  frames_.erase(frames_.begin(), frames_.begin() + static_cast<std::ptrdiff_t>(over));
   // The sender's rates before its last frame ended no longer bound anything still to come.
   while (sender_bauds_.size() > 1 && sender_bauds_[1].from_ns <= last_end_ns_) sender_bauds_.erase(sender_bauds_.begin());
 }
@@ -209,10 +213,10 @@ void SerialWire::forget_before(int64_t t_ns) {
 void SerialWire::receive_until(int64_t until_ns, std::vector<serial_byte>& out) {
   const int64_t known = known_until(until_ns);
   if (known != std::numeric_limits<int64_t>::min()) decode(known);
-  while (!ready_.empty() && ready_.front().end_ns < until_ns) {
-    out.push_back(ready_.front());
-    ready_.pop_front();
-  }
+  std::size_t due = 0;
+  while (due < ready_.size() && ready_[due].end_ns < until_ns) ++due;
+  out.insert(out.end(), ready_.begin(), ready_.begin() + static_cast<std::ptrdiff_t>(due));
+  ready_.erase(ready_.begin(), ready_.begin() + static_cast<std::ptrdiff_t>(due));
 }
 
 }  // namespace sear

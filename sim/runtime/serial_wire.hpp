@@ -3,7 +3,6 @@
 #pragma once
 
 #include <cstdint>
-#include <deque>
 #include <vector>
 
 #include "devices/serial_byte.h"
@@ -85,10 +84,10 @@ class SerialWire {
   void forget_before(int64_t t_ns);
 
   bool inverted_;
-  std::deque<Frame> frames_;
+  std::vector<Frame> frames_;
   std::vector<BaudChange> bauds_;         // the receiver's
   std::vector<BaudChange> sender_bauds_;  // the sender's, as announced; the first still in force at last_end_ns_ on
-  std::deque<serial_byte> ready_;  // decoded, waiting for their end to pass
+  std::vector<serial_byte> ready_;  // decoded, waiting for their end to pass
   int64_t scan_from_ns_ = INT64_MIN;  // where the receiver starts hunting for a start edge
   int64_t last_end_ns_ = INT64_MIN;
   uint32_t last_sender_baud_ = 0;
