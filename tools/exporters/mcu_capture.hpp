@@ -38,8 +38,8 @@ class McuCapture : public McuListener {
     int console_uart;  // -1: none
     // values.vcd shows each UART byte (PinWaveform). Off in `sear run` unless --uart-frames: at
     // 500 kbaud the bytes are all but 3 kB of the reference rover's file (0.6 MB a simulated
-    // second, past the default size limit in seven minutes) and cost the reference rover a quarter of its speed, for a view
-    // the UART logs already give with the same times.
+    // second, past the default size limit in seven minutes) and half of what its capture cost,
+    // for a view the UART logs already give with the same times.
     bool waveform_uart_bytes = true;
     std::vector<std::string> pin_labels = {};  // what is wired to each pin (exporters/pin_labels.hpp)
     // pins.vcd draws each UART byte's frame on its USART pins. Off by default: at 500 kbaud the
