@@ -390,7 +390,7 @@ bool RangeSensorSet::any_hit(const PhysicsWorld& physics, const Eigen::Vector3d&
   // the terrain under it, as a driving robot's mostly is, is not cast at all: the packet was half
   // of a bump switch's cost, every quantum.
   const double slack = RayScene::float_slack_m(longest, farthest_origin);
-  if (!ray_directions_.empty() && !scene.clear_of(bounds, physics.terrain_ceiling(bounds), ignore_entity)) {
+  if (!ray_directions_.empty() && !scene.clear_of(bounds, physics.terrain_ceiling(bounds), slack, ignore_entity)) {
     bvh_hits_.resize(ray_directions_.size());
     scene.cast(ray_origins_.data(), false, ray_directions_.data(), ray_directions_.size(), longest + slack,
                ignore_entity, bvh_hits_.data());

@@ -663,10 +663,11 @@ bool RayScene::refine(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
   return true;
 }
 
-bool RayScene::clear_of(const double box[6], double terrain_ceiling_m, int ignore_entity) const {
-  // Every hit a cast reports lies on a geom, within rounding (ODE's boxes are exact in double);
-  // twice the slack of the slab tests keeps a grazing touch counted.
-  constexpr double margin = 2 * detail::kAabbSlack_m;
+bool RayScene::clear_of(const double box[6], double terrain_ceiling_m, double slack_m, int ignore_entity) const {
+  // Every hit a cast reports lies on a geom within rounding: in double for boxes, primitives and
+  // the terrain, but in float for a trimesh (OPCODE meets the ray in float, a few µm at tens of
+  // metres from the origin), which the rays' float slack covers with room to spare.
+  const double margin = std::max(2 * detail::kAabbSlack_m, slack_m);
   for (const StaticGeom& g : all_) {
     if (ignore_entity >= 0 && g.entity == ignore_entity) continue;
     if (g.geom == terrain_) {

@@ -82,10 +82,11 @@ class RayScene {
   RayHit nearest(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double limit_m, int ignore_entity) const;
 
   // Whether no static geom can meet a ray that lies wholly inside `box` (ODE's order): every
-  // geom's box, but the terrain's, lies clear of it, and it lies above `terrain_ceiling_m`, the
-  // highest the terrain reaches under it (PhysicsWorld::terrain_ceiling). `ignore_entity`'s geoms
-  // do not count. Then casting is known to find nothing, and is spared.
-  bool clear_of(const double box[6], double terrain_ceiling_m, int ignore_entity) const;
+  // geom's box, but the terrain's, lies more than `slack_m` clear of it, and it lies more than
+  // that above `terrain_ceiling_m`, the highest the terrain reaches under it
+  // (PhysicsWorld::terrain_ceiling). `ignore_entity`'s geoms do not count. Then casting is known
+  // to find nothing, and is spared. `slack_m`: the rays' float_slack_m().
+  bool clear_of(const double box[6], double terrain_ceiling_m, double slack_m, int ignore_entity) const;
 
   // Embree's float distance may differ from ODE's double one by this much at distance t_m from
   // an origin |o| from the world's origin (see ray_scene.cpp); readings refine every ray within
