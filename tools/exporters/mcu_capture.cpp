@@ -75,21 +75,17 @@ std::unique_ptr<BoundedFile> McuCapture::open(const std::string& name, const std
 }
 
 McuCapture::PortFiles& McuCapture::port(State& s, int n) {
-  const bool on_link = n >= 0 && n < SEAR_LINK_UARTS;
-  if (on_link && s.link_ports[static_cast<std::size_t>(n)]) return *s.link_ports[static_cast<std::size_t>(n)];
-  auto it = s.ports.find(n);
-  if (it != s.ports.end()) return it->second;
-  PortFiles p;
+  std::unique_ptr<PortFiles>& p = s.ports.at(static_cast<std::size_t>(n));
+  if (p) return *p;
+  p = std::make_unique<PortFiles>();
   const std::string stem = fmt::format("{}.uart{}", s.mcu.id, n);
-  p.raw_tx = open(stem + ".tx.bin", "");
-  p.raw_rx = open(stem + ".rx.bin", "");
-  p.text = open(stem + ".log", text_truncation_note(max_file_bytes_));
-  p.text->write(fmt::format("# SEAR UART capture: mcu {}, port {}, 8N1\n"
-                            "# time_s (end of the stop bit), direction (tx, rx, or baud when the port starts), byte in hex\n",
-                            s.mcu.id, n));
-  PortFiles& files = s.ports.emplace(n, std::move(p)).first->second;  // a map's entries stay put
-  if (on_link) s.link_ports[static_cast<std::size_t>(n)] = &files;
-  return files;
+  p->raw_tx = open(stem + ".tx.bin", "");
+  p->raw_rx = open(stem + ".rx.bin", "");
+  p->text = open(stem + ".log", text_truncation_note(max_file_bytes_));
+  p->text->write(fmt::format("# SEAR UART capture: mcu {}, port {}, 8N1\n"
+                             "# time_s (end of the stop bit), direction (tx, rx, or baud when the port starts), byte in hex\n",
+                             s.mcu.id, n));
+  return *p;
 }
 
 void McuCapture::end_line(State& s, std::int64_t time_ns) {

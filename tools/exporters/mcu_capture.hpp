@@ -78,10 +78,10 @@ class McuCapture : public McuListener {
     std::unique_ptr<PinWaveform> waveform;  // into `pins` and `values`
     std::int64_t line_time = 0;             // of the console's last byte
     std::int64_t stop_ns = INT64_MAX;
-    std::map<int, PortFiles> ports;
-    // The link's ports' entries in `ports`, once opened: a 500 kbaud line asks for one 50 times a
-    // millisecond, and the map's search was a fifth of writing its byte.
-    std::array<PortFiles*, SEAR_LINK_UARTS> link_ports{};
+    // By port, opened at its first event; the link refuses a port past the chip's. An array, not
+    // a map: a 500 kbaud line asks for its files 50 times a millisecond, and a map's search was a
+    // fifth of writing its byte.
+    std::array<std::unique_ptr<PortFiles>, SEAR_LINK_UARTS> ports;
     std::vector<sear_event> pending;  // not yet due, in the order they came
     std::map<int, std::string> never_sent;  // per port
     std::int64_t closed_ns = -1;            // when its wire stopped: -1 while it runs
