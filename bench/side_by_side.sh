@@ -33,8 +33,7 @@ SCENARIOS=${SCENARIOS:-"default avoider two eight nolidar noplots short"}
 
 work=$(mktemp -d /tmp/sear-side-by-side.XXXXXX)
 trap 'rm -rf "$work"' EXIT
-grep -v "<lms2xx" "$ROOT/assets/projects/default.xml" |
-  sed -e "s#\\([\" ]\\)\\.\\./\\.\\./#\\1$ROOT/#g" -e "s#\\([\" ]\\)\\.\\./#\\1$ROOT/assets/#g" >"$work/nolidar.xml"
+bench_nolidar_project >"$work/nolidar.xml"
 
 echo "$RUNS runs per line (medians), $DURATION s simulated (short: 1 s); $(nproc) cores; $(date -u '+%F %T') UTC"
 for i in "${!binaries[@]}"; do echo "sear $((i + 1)): ${binaries[$i]}"; done

@@ -30,8 +30,7 @@ SCENARIOS=${SCENARIOS:-"default nolidar avoider"}
 
 work=$(mktemp -d /tmp/sear-step-instructions.XXXXXX)
 trap 'rm -rf "$work"' EXIT
-grep -v "<lms2xx" "$ROOT/assets/projects/default.xml" |
-  sed -e "s#\\([\" ]\\)\\.\\./\\.\\./#\\1$ROOT/#g" -e "s#\\([\" ]\\)\\.\\./#\\1$ROOT/assets/#g" >"$work/nolidar.xml"
+bench_nolidar_project >"$work/nolidar.xml"
 
 # The parts, as callgrind_annotate names the functions, and their columns' headings.
 parts=("sear::Lockstep::step(" "sear::Simulation::step()" "sear::McuBridge::begin_quantum(" "Hcsr04::sample("

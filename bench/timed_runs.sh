@@ -26,6 +26,13 @@ bench_median() {
 # bench_column N: the Nth field of each line on standard input.
 bench_column() { awk -v n="$1" '{ print $n }'; }
 
+# bench_nolidar_project: the default project (the reference rover) without its LMS200, its paths
+# made absolute from $ROOT so that it runs from anywhere, on standard output.
+bench_nolidar_project() {
+  grep -v "<lms2xx" "$ROOT/assets/projects/default.xml" |
+    sed -e "s#\\([\" ]\\)\\.\\./\\.\\./#\\1$ROOT/#g" -e "s#\\([\" ]\\)\\.\\./#\\1$ROOT/assets/#g"
+}
+
 # bench_load: the load average over 1, 5 and 15 minutes, now.
 bench_load() { cut -d' ' -f1-3 /proc/loadavg; }
 

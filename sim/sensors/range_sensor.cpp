@@ -80,11 +80,7 @@ void gather_geoms(const std::vector<dGeomID>& geoms, const double bounds[6], int
     if (!tag || (ignore_entity >= 0 && tag->entity == ignore_entity)) continue;
     detail::RayCandidate c{geom, tag->entity, {}};
     dGeomGetAABB(geom, c.aabb);
-    bool overlaps = true;
-    for (int axis = 0; axis < 3 && overlaps; ++axis)
-      overlaps = c.aabb[2 * axis] <= bounds[2 * axis + 1] + kAabbSlack_m &&
-                 c.aabb[2 * axis + 1] >= bounds[2 * axis] - kAabbSlack_m;
-    if (overlaps) out.push_back(c);
+    if (detail::boxes_meet(c.aabb, bounds, kAabbSlack_m)) out.push_back(c);
   }
 }
 
@@ -205,11 +201,7 @@ void RangeSensor::gather(dSpaceID space, const double bounds[6], int ignore_enti
     if (tag->role == GeomRole::Tread) continue;  // meets only the ground; rays see the tyre
     Candidate c{geom, tag->entity, {}};
     dGeomGetAABB(geom, c.aabb);  // brings a moved body's box up to date first
-    bool overlaps = true;
-    for (int axis = 0; axis < 3 && overlaps; ++axis)
-      overlaps = c.aabb[2 * axis] <= bounds[2 * axis + 1] + kAabbSlack_m &&
-                 c.aabb[2 * axis + 1] >= bounds[2 * axis] - kAabbSlack_m;
-    if (overlaps) out.push_back(c);
+    if (detail::boxes_meet(c.aabb, bounds, kAabbSlack_m)) out.push_back(c);
   }
 }
 

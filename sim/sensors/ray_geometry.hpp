@@ -16,6 +16,14 @@ namespace sear::detail {
 // Room for rounding in ODE's boxes and in the slab test, so that no true hit is culled.
 constexpr double kAabbSlack_m = 1e-6;
 
+// Whether two boxes (ODE's order) meet, or come within `margin` of it on every axis; false for a
+// NaN bound. The cheap test that leaves most geoms out of a beam's or a ray's way.
+inline bool boxes_meet(const double a[6], const double b[6], double margin) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (!(a[2 * axis] <= b[2 * axis + 1] + margin && a[2 * axis + 1] >= b[2 * axis] - margin)) return false;
+  return true;
+}
+
 // Whether the segment origin + t dir, t in [0, length], meets the box (ODE's order); the cheap test
 // that spares the exact collider most rays. Infinite bounds (a plane's) work: no 0 * inf arises.
 inline bool segment_meets_box(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double length,

@@ -649,13 +649,12 @@ bool RayScene::refine(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
   const double from = std::max(0.0, best.distance_m - slack);
   const Eigen::Vector3d start = origin + from * dir;
   const Eigen::Vector3d end = origin + best.distance_m * dir;
-  const Eigen::Vector3d near_lo = start.cwiseMin(end).array() - 2 * detail::kAabbSlack_m;
-  const Eigen::Vector3d near_hi = start.cwiseMax(end).array() + 2 * detail::kAabbSlack_m;
+  const double stretch[6] = {std::min(start.x(), end.x()), std::max(start.x(), end.x()),
+                             std::min(start.y(), end.y()), std::max(start.y(), end.y()),
+                             std::min(start.z(), end.z()), std::max(start.z(), end.z())};
   for (const StaticGeom& g : all_) {
     if (g.geom == struck || (ignore_entity >= 0 && g.entity == ignore_entity)) continue;
-    if (near_hi.x() < g.aabb[0] || near_lo.x() > g.aabb[1] || near_hi.y() < g.aabb[2] || near_lo.y() > g.aabb[3] ||
-        near_hi.z() < g.aabb[4] || near_lo.z() > g.aabb[5])
-      continue;
+    if (!detail::boxes_meet(g.aabb, stretch, 2 * detail::kAabbSlack_m)) continue;
     if (!detail::segment_meets_box(start, dir, best.distance_m - from, g.aabb)) continue;
     exact(g, origin, dir, from, best.distance_m, best);
   }
@@ -674,9 +673,7 @@ bool RayScene::clear_of(const double box[6], double terrain_ceiling_m, double sl
       if (!(box[4] - margin > terrain_ceiling_m)) return false;
       continue;
     }
-    if (box[1] + margin >= g.aabb[0] && box[0] - margin <= g.aabb[1] && box[3] + margin >= g.aabb[2] &&
-        box[2] - margin <= g.aabb[3] && box[5] + margin >= g.aabb[4] && box[4] - margin <= g.aabb[5])
-      return false;
+    if (detail::boxes_meet(g.aabb, box, margin)) return false;
   }
   return true;
 }
