@@ -550,6 +550,91 @@ TEST(RangeSensorFastPath, SonarConesEchoFromWhatEveryGeomTestedAlongEveryRayFind
   std::printf("sonar cones: %d echoes, %d from moving bodies\n", echoes, from_moving);
 }
 
+// A heightmap ramp of 55 degrees (flat ground below it and above it) facing a sonar held level
+// 0.3 m above the ground: a level ray meets the ramp 35 degrees off its normal, within the 45
+// degrees that echo, while the rays that strike the flat ground ahead graze it at 75 degrees or
+// more. The fast path spares the rays that can strike only terrain too flat to echo; the ramp
+// must still be heard, at the distance of the reference's nearest echoing ray, and the ground
+// alone (looking away) never.
+TEST(RangeSensorFastPath, SonarHearsTerrainTiltedTowardItAndNotGroundItGrazes) {
+  const test::TempDir dir;
+  constexpr int n = 81;  // 0.25 m cells over 20 m: whole cells lie on the ramp
+  const double rise = std::tan(55 * kDeg);
+  const auto height = [&](double x) { return std::clamp((x - 2.0) * rise, 0.0, 1.5); };
+  std::string pgm = "P5\n" + std::to_string(n) + " " + std::to_string(n) + "\n65535\n";
+  for (int row = 0; row < n; ++row)
+    for (int col = 0; col < n; ++col) {
+      const auto v = static_cast<unsigned>(std::lround(height(-10.0 + 20.0 * col / (n - 1)) / 2.0 * 65535.0));
+      pgm += {static_cast<char>(v >> 8), static_cast<char>(v & 0xff)};
+    }
+  const Scene scene(R"(<terrain type="heightmap" image=")" + dir.write("ramp.pgm", pgm) +
+                    R"(" size="20 20" min_height="0" max_height="2"/>)");
+  std::vector<dGeomID> geoms;
+  brute_force_into(scene.physics.static_space(), geoms);
+  for (const double yaw : {0.0, 180.0}) {
+    RangeBeam beam = beam_at({0, 0, 0.3}, yaw, 0, 4.5, 15);
+    beam.resolution_rad = 2 * kDeg;
+    beam.max_incidence_rad = 45 * kDeg;
+    const RangeSensor sensor(beam);
+    const RangeReading fast = sensor.measure(scene.physics, nullptr, -1);
+    RangeReading slow;
+    for (const auto& d : sensor.directions()) {
+      const RayHit h = test::ode_closest_hit(geoms, beam.position_m, d, beam.max_range_m, -1);
+      if (!h.hit || std::abs(h.normal_m.dot(d)) < std::cos(beam.max_incidence_rad)) continue;
+      if (!slow.hit || h.distance_m < slow.distance_m) {
+        slow.hit = true;
+        slow.distance_m = h.distance_m;
+      }
+    }
+    ASSERT_EQ(slow.hit, yaw == 0) << "the reference: the ramp echoes, the ground does not";
+    ASSERT_EQ(fast.hit, slow.hit) << yaw;
+    if (!fast.hit) continue;
+    // Between the ramp's foot (2 m) and where the level ray meets it (2 + 0.3 / tan 55 deg).
+    EXPECT_GT(fast.distance_m, 2.0);
+    EXPECT_LT(fast.distance_m, 2.0 + 0.3 / rise + 1e-9);
+    // The same contact of ODE's heightfield collider, to rounding.
+    EXPECT_NEAR(fast.distance_m, slow.distance_m, 1e-9);
+  }
+}
+
+// A crate that can move, hidden from a level sonar 0.1 m above the ground by a ridge 0.5 m high
+// whose 27-degree faces meet every ray of the cone 48 degrees or more off their normals: nothing
+// echoes, the crate's square face included, which only a ray through the ridge would reach. With
+// a moving body near the beam every ray is cast, as the ground in front of the crate must be
+// found to hide it.
+TEST(RangeSensorFastPath, GroundThatCannotEchoStillHidesAMovingBodyBehindIt) {
+  const test::TempDir dir;
+  constexpr int n = 81;  // 0.25 m cells over 20 m: the ridge's foot, top and foot are samples
+  const auto height = [](double x) { return 0.5 * std::max(0.0, 1.0 - std::abs(x - 2.0)); };
+  std::string pgm = "P5\n" + std::to_string(n) + " " + std::to_string(n) + "\n65535\n";
+  for (int row = 0; row < n; ++row)
+    for (int col = 0; col < n; ++col) {
+      const auto v = static_cast<unsigned>(std::lround(height(-10.0 + 20.0 * col / (n - 1)) * 65535.0));
+      pgm += {static_cast<char>(v >> 8), static_cast<char>(v & 0xff)};
+    }
+  const Scene scene(R"(<terrain type="heightmap" image=")" + dir.write("ridge.pgm", pgm) +
+                    R"(" size="20 20" min_height="0" max_height="1"/>)"
+                    R"(<box name="crate" pos="3.5 0" size="0.4 0.4 0.4" mass="1"/>)");
+  RangeBeam beam = beam_at({0, 0, 0.1}, 0, 0, 4.5, 15);
+  beam.resolution_rad = 2 * kDeg;
+  beam.max_incidence_rad = 45 * kDeg;
+  const RangeSensor sensor(beam);
+  std::vector<dGeomID> geoms;
+  brute_force_into(scene.physics.static_space(), geoms);
+  brute_force_into(scene.physics.dynamic_space(), geoms);
+  std::vector<dGeomID> crate;
+  brute_force_into(scene.physics.dynamic_space(), crate);
+  ASSERT_EQ(crate.size(), 1u);
+  int hidden = 0;  // rays that would meet the crate's face were the ridge not there
+  for (const auto& d : sensor.directions()) {
+    const RayHit h = test::ode_closest_hit(geoms, beam.position_m, d, beam.max_range_m, -1);
+    ASSERT_TRUE(!h.hit || std::abs(h.normal_m.dot(d)) < std::cos(beam.max_incidence_rad)) << "no ray echoes";
+    hidden += test::ode_closest_hit(crate, beam.position_m, d, beam.max_range_m, -1).hit;
+  }
+  ASSERT_GT(hidden, 10);
+  EXPECT_FALSE(sensor.measure(scene.physics, nullptr, -1).hit);
+}
+
 TEST(RangeSensorFastPath, ASetOfBeamsHitsExactlyWhenOneOfItsSensorsDoes) {
   const DefaultWorld world(0.3);
   const PhysicsWorld& physics = world.sim.physics();

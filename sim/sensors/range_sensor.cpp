@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -262,16 +263,44 @@ RangeReading RangeSensor::nearest_static(const RayScene& scene, const Eigen::Vec
   return reading;
 }
 
-RangeReading RangeSensor::nearest_echo(const RayScene& scene, const Eigen::Vector3d& origin,
+RangeReading RangeSensor::nearest_echo(const RayScene& scene, const Eigen::Vector3d& origin, const double bounds[6],
                                        const std::vector<Candidate>& candidates, int ignore_entity) const {
   RangeReading reading;
   reading.distance_m = beam_.max_range_m;
   const std::size_t n = world_directions_.size();
   const double slack = RayScene::float_slack_m(beam_.max_range_m, origin.norm());
-  scene.cast(&origin, true, world_directions_.data(), n, beam_.max_range_m + slack, ignore_entity, bvh_hits_.data());
+  const double reach = beam_.max_range_m + slack;
   // Each ray's own nearest surface decides whether that ray echoes: a grazing wall in front of a
   // square-on one hides it from that ray.
   const double min_cos = std::cos(beam_.max_incidence_rad);
+  // A ray that can strike nothing static but the terrain, and lies too flat to it for any of its
+  // cells to echo, is no echo wherever it strikes: it is not cast at all (as if it struck nothing,
+  // which keeps the other rays' order below). A sonar cone's rays over open ground are nearly all
+  // such: their casts and each hit met again in double were four fifths of the cone's cost.
+  // Nothing moving may be near, as it could stand in front of the ground.
+  const double grazing_cos = candidates.empty() ? scene.grazing_cos(beam_.max_incidence_rad) : -1;
+  cast_rays_.clear();
+  if (grazing_cos > 0) {
+    scene.others_near(bounds, slack, ignore_entity, near_boxes_);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d& dir = world_directions_[i];
+      bool may_echo = !(std::abs(scene.terrain_up().dot(dir)) < grazing_cos);
+      for (std::size_t b = 0; !may_echo && b < near_boxes_.size(); ++b)
+        may_echo = segment_meets_box(origin, dir, reach, near_boxes_[b].data());
+      if (may_echo) cast_rays_.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  if (grazing_cos > 0 && cast_rays_.size() < n) {
+    cast_dirs_.clear();
+    for (const std::uint32_t i : cast_rays_) cast_dirs_.push_back(world_directions_[i]);
+    cast_hits_.resize(cast_rays_.size());
+    if (!cast_dirs_.empty())
+      scene.cast(&origin, true, cast_dirs_.data(), cast_dirs_.size(), reach, ignore_entity, cast_hits_.data());
+    for (BvhHit& h : bvh_hits_) h.t = std::numeric_limits<float>::infinity();
+    for (std::size_t k = 0; k < cast_rays_.size(); ++k) bvh_hits_[cast_rays_[k]] = cast_hits_[k];
+  } else {
+    scene.cast(&origin, true, world_directions_.data(), n, reach, ignore_entity, bvh_hits_.data());
+  }
   // Rays in the order of their static surfaces' float distances (stable: ties keep the beam's
   // order). Once an echo is nearer than the next ray's surface can be, no later ray can beat it,
   // and asking each of them of ODE (which a sonar cone's ~200 rays cost every 10 ms) is spared;
@@ -310,7 +339,7 @@ RangeReading RangeSensor::measure(const PhysicsWorld& physics, const Eigen::Vect
   gather_geoms(scene.ode_only(), bounds, ignore_entity, candidates_);
   RangeReading reading;
   if (beam_.max_incidence_rad < 0.5 * kPi) {
-    reading = nearest_echo(scene, origin, candidates_, ignore_entity);
+    reading = nearest_echo(scene, origin, bounds, candidates_, ignore_entity);
   } else {
     reading = cast(origin, candidates_, false, nearest_static(scene, origin, ignore_entity));
   }

@@ -8,6 +8,7 @@
 #include <ode/ode.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -128,8 +129,8 @@ class RangeSensor {
                     RangeReading reading) const;
   // The nearest static hit over the placed rays, exact (refined), as a reading.
   RangeReading nearest_static(const RayScene& scene, const Eigen::Vector3d& origin, int ignore_entity) const;
-  // With a max incidence: each ray's own nearest hit, kept only if it echoes.
-  RangeReading nearest_echo(const RayScene& scene, const Eigen::Vector3d& origin,
+  // With a max incidence: each ray's own nearest hit, kept only if it echoes. `bounds`: place()'s.
+  RangeReading nearest_echo(const RayScene& scene, const Eigen::Vector3d& origin, const double bounds[6],
                             const std::vector<Candidate>& candidates, int ignore_entity) const;
   dGeomID ray() const;
 
@@ -141,6 +142,10 @@ class RangeSensor {
   mutable std::vector<Candidate> candidates_;              // geoms near the beam, per call
   mutable std::vector<BvhHit> bvh_hits_;                   // per call, sized once
   mutable std::vector<std::uint32_t> ray_order_;           // per call: rays nearest surface first
+  mutable std::vector<std::array<double, 6>> near_boxes_;  // per call: RayScene::others_near()
+  mutable std::vector<std::uint32_t> cast_rays_;           // per call: the rays that may echo
+  mutable std::vector<Eigen::Vector3d> cast_dirs_;         // and their directions
+  mutable std::vector<BvhHit> cast_hits_;                  // and Embree's hits
 };
 
 // Beams on one mount that are asked together whether any of them touches something: a bump

@@ -16,6 +16,7 @@ namespace sear {
 namespace {
 
 constexpr float kInfF = std::numeric_limits<float>::infinity();
+constexpr double kPi = 3.14159265358979323846;
 
 // A shape beyond this from the origin has no bounds Embree can hold: an infinite plane is cut here.
 constexpr double kWorldReach_m = 1e5;
@@ -90,6 +91,39 @@ struct RayScene::Item {
 namespace {
 
 using Shape = RayScene::Item::Shape;
+
+// How far a hit a cast reports may lie outside its geom's box: in double for boxes, primitives
+// and the terrain, but in float for a trimesh (OPCODE meets the ray in float, a few µm at tens
+// of metres from the origin), which the rays' float slack covers with room to spare.
+double hit_margin(double slack_m) { return std::max(2 * detail::kAabbSlack_m, slack_m); }
+
+// A heightfield's sample (c, r) in ODE's frame of it.
+Eigen::Vector3d cell_vertex(const RayScene::Item& item, int c, int r) {
+  return Eigen::Vector3d(c * item.sample_width,
+                         (*item.heights)[static_cast<std::size_t>(r) * static_cast<std::size_t>(item.columns) +
+                                         static_cast<std::size_t>(c)],
+                         r * item.sample_depth);
+}
+
+// The unit normal of cell (c, r)'s triangle ABC (`upper`) or DCB, with A (c, r), B (c + 1, r),
+// C (c, r + 1), D (c + 1, r + 1): (C - A) x (B - A) or (B - D) x (C - D), as ODE forms them.
+Eigen::Vector3d cell_normal(const RayScene::Item& item, int c, int r, bool upper) {
+  if (upper) {
+    const Eigen::Vector3d A = cell_vertex(item, c, r);
+    return (cell_vertex(item, c, r + 1) - A).cross(cell_vertex(item, c + 1, r) - A).normalized();
+  }
+  const Eigen::Vector3d D = cell_vertex(item, c + 1, r + 1);
+  return (cell_vertex(item, c + 1, r) - D).cross(cell_vertex(item, c, r + 1) - D).normalized();
+}
+
+// The largest angle between any of a heightfield's triangles' normals and its up axis.
+double steepest_tilt(const RayScene::Item& item) {
+  double flattest = 1;  // the smallest |cos| of a normal to up
+  for (int row = 0; row + 1 < item.rows; ++row)
+    for (int col = 0; col + 1 < item.columns; ++col)
+      for (const bool upper : {true, false}) flattest = std::min(flattest, std::abs(cell_normal(item, col, row, upper).y()));
+  return std::acos(flattest);
+}
 
 // The first t in [t_min, t_max] of `roots` (unsorted), with its normal; false for none.
 struct Nearest {
@@ -438,6 +472,10 @@ RayScene::RayScene(const PhysicsWorld& physics) : device_(shared_device()) {
             }
           triangles_ += 2 * cells;
           all_.back().heightfield = item.get();
+          if (geom == terrain_) {
+            terrain_up_ = r.col(1);  // ODE's heightfield frame has y up
+            terrain_tilt_rad_ = steepest_tilt(*item);
+          }
           attach(geometry, std::move(item));
           break;
         }
@@ -490,6 +528,10 @@ RayScene::RayScene(const PhysicsWorld& physics) : device_(shared_device()) {
         case dPlaneClass: {
           dVector4 plane;
           dGeomPlaneGetParams(geom, plane);
+          if (geom == terrain_) {
+            terrain_up_ = Eigen::Vector3d(plane[0], plane[1], plane[2]);
+            terrain_tilt_rad_ = 0;
+          }
           shapes->shapes.push_back({Shape::Type::Plane, geom, tag->entity, Eigen::Vector3d(plane[0], plane[1], plane[2]),
                                     Eigen::Matrix3d::Identity(), 0, plane[3]});
           break;
@@ -512,6 +554,25 @@ RayScene::RayScene(const PhysicsWorld& physics) : device_(shared_device()) {
   if (error != RTC_ERROR_NONE)
     throw std::runtime_error("ray scene: Embree failed to build the static world (error " +
                              std::to_string(static_cast<int>(error)) + ")");
+}
+
+double RayScene::grazing_cos(double max_incidence_rad) const {
+  // A normal within tilt of up meets a ray at theta from up at no less than theta - tilt. The
+  // margin is far beyond the rounding of the normals, computed in double as refine() does.
+  const double widest = terrain_tilt_rad_ + max_incidence_rad + 1e-9;
+  return terrain_tilt_rad_ < 0 || widest >= 0.5 * kPi ? -1.0 : std::cos(widest);
+}
+
+void RayScene::others_near(const double box[6], double slack_m, int ignore_entity,
+                           std::vector<std::array<double, 6>>& out) const {
+  out.clear();
+  const double margin = hit_margin(slack_m);
+  for (const StaticGeom& g : all_) {
+    if (g.geom == terrain_ || (ignore_entity >= 0 && g.entity == ignore_entity)) continue;
+    if (!detail::boxes_meet(g.aabb, box, margin)) continue;
+    out.push_back({g.aabb[0] - margin, g.aabb[1] + margin, g.aabb[2] - margin, g.aabb[3] + margin,
+                   g.aabb[4] - margin, g.aabb[5] + margin});
+  }
 }
 
 RayScene::~RayScene() {
@@ -579,22 +640,14 @@ bool heightfield_hit(const RayScene::Item& item, const Eigen::Vector3d& origin, 
   const auto [c0, c1] = cells(a.x(), b.x(), item.sample_width, item.columns - 2);
   const auto [r0, r1] = cells(a.z(), b.z(), item.sample_depth, item.rows - 2);
   // A long segment would walk many cells; refine() only asks about a few millimetres.
-  const auto vertex = [&](int c, int r) {
-    return Eigen::Vector3d(c * item.sample_width,
-                           (*item.heights)[static_cast<std::size_t>(r) * static_cast<std::size_t>(item.columns) +
-                                           static_cast<std::size_t>(c)],
-                           r * item.sample_depth);
-  };
   bool found = false;
   for (int row = r0; row <= r1; ++row)
     for (int col = c0; col <= c1; ++col) {
-      const Eigen::Vector3d A = vertex(col, row), B = vertex(col + 1, row), C = vertex(col, row + 1),
-                            D = vertex(col + 1, row + 1);
+      const Eigen::Vector3d A = cell_vertex(item, col, row), D = cell_vertex(item, col + 1, row + 1);
       for (const bool up : {true, false}) {
-        // The plane of ABC is (C - A) x (B - A), of DCB (B - D) x (C - D), normalised, through
-        // the first vertex; dCollideRayPlane meets it.
+        // The triangle's plane through its first vertex, as dCollideRayPlane meets it.
         const Eigen::Vector3d& first = up ? A : D;
-        const Eigen::Vector3d n = (up ? (C - A).cross(B - A) : (B - D).cross(C - D)).normalized();
+        const Eigen::Vector3d n = cell_normal(item, col, row, up);
         const double k = n.dot(v);
         if (k == 0) continue;
         const double alpha = (n.dot(first) - n.dot(o)) / k;
@@ -663,10 +716,7 @@ bool RayScene::refine(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
 }
 
 bool RayScene::clear_of(const double box[6], double terrain_ceiling_m, double slack_m, int ignore_entity) const {
-  // Every hit a cast reports lies on a geom within rounding: in double for boxes, primitives and
-  // the terrain, but in float for a trimesh (OPCODE meets the ray in float, a few µm at tens of
-  // metres from the origin), which the rays' float slack covers with room to spare.
-  const double margin = std::max(2 * detail::kAabbSlack_m, slack_m);
+  const double margin = hit_margin(slack_m);
   for (const StaticGeom& g : all_) {
     if (ignore_entity >= 0 && g.entity == ignore_entity) continue;
     if (g.geom == terrain_) {

@@ -8,6 +8,7 @@
 #include <ode/ode.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -88,6 +89,17 @@ class RayScene {
   // to find nothing, and is spared. `slack_m`: the rays' float_slack_m().
   bool clear_of(const double box[6], double terrain_ceiling_m, double slack_m, int ignore_entity) const;
 
+  // The terrain as a sonar meets it: no surface of it (a heightmap's triangles, or its plane) is
+  // tilted further from terrain_up() than its steepest triangle, so a ray whose line lies further
+  // than that plus max_incidence_rad from terrain_up() strikes all of them too obliquely to echo:
+  // |terrain_up() . dir| is then below grazing_cos(max_incidence_rad). That is -1 (no ray) where
+  // the terrain is left to ODE, or the bound leaves no ray.
+  const Eigen::Vector3d& terrain_up() const { return terrain_up_; }
+  double grazing_cos(double max_incidence_rad) const;
+  // The boxes of the static geoms other than the terrain that meet `box` (ODE's order), each grown
+  // by the margin clear_of() keeps: all that a ray inside `box` can strike besides the terrain.
+  void others_near(const double box[6], double slack_m, int ignore_entity, std::vector<std::array<double, 6>>& out) const;
+
   // Embree's float distance may differ from ODE's double one by this much at distance t_m from
   // an origin |o| from the world's origin (see ray_scene.cpp); readings refine every ray within
   // it of the nearest.
@@ -120,6 +132,8 @@ class RayScene {
   int static_count_ = 0;
   dGeomID ray_ = nullptr;  // a ray in no space, for refine() and ode_nearest()
   dGeomID terrain_ = nullptr;
+  Eigen::Vector3d terrain_up_{0, 0, 1};
+  double terrain_tilt_rad_ = -1;  // unknown: see grazing_cos()
 };
 
 }  // namespace sear
