@@ -225,22 +225,26 @@ TEST(RangeSensorHits, FlatGroundAtHeightOverSinPitch) {
   EXPECT_NEAR(r.distance_m, h / std::sin(35 * kDeg), 1e-9);
 }
 
-// The plane h = 1 + 0.1 y + 0.05 x as a 65 x 65 16-bit PGM over 20 x 20 m (as in terrain_test).
-double plane_height(double x, double y) { return 1.0 + 0.1 * y + 0.05 * x; }
-
-std::string sloped_heightmap(const test::TempDir& dir) {
-  constexpr int n = 65;
+// A <terrain> of height(x, y) sampled n x n over 20 x 20 m about the origin, as a 16-bit PGM
+// whose levels span [low, high] m.
+template <class Height>
+std::string heightmap(const test::TempDir& dir, const std::string& name, int n, double low, double high, Height height) {
   std::string pgm = "P5\n" + std::to_string(n) + " " + std::to_string(n) + "\n65535\n";
   for (int row = 0; row < n; ++row) {
     for (int col = 0; col < n; ++col) {
       const double x = -10.0 + 20.0 * col / (n - 1), y = 10.0 - 20.0 * row / (n - 1);
-      const auto v = static_cast<unsigned>(std::lround((plane_height(x, y) + 0.5) / 3.0 * 65535.0));
+      const auto v = static_cast<unsigned>(std::lround((height(x, y) - low) / (high - low) * 65535.0));
       pgm += {static_cast<char>(v >> 8), static_cast<char>(v & 0xff)};
     }
   }
-  return R"(<terrain type="heightmap" image=")" + dir.write("plane.pgm", pgm) +
-         R"(" size="20 20" min_height="-0.5" max_height="2.5"/>)";
+  return R"(<terrain type="heightmap" image=")" + dir.write(name, pgm) + R"(" size="20 20" min_height=")" +
+         std::to_string(low) + R"(" max_height=")" + std::to_string(high) + R"("/>)";
 }
+
+// The plane h = 1 + 0.1 y + 0.05 x as a 65 x 65 heightmap (as in terrain_test).
+double plane_height(double x, double y) { return 1.0 + 0.1 * y + 0.05 * x; }
+
+std::string sloped_heightmap(const test::TempDir& dir) { return heightmap(dir, "plane.pgm", 65, -0.5, 2.5, plane_height); }
 
 TEST(RangeSensorHits, HeightmapTerrainWhereTheRayMeetsItsPlane) {
   const test::TempDir dir;
@@ -558,17 +562,10 @@ TEST(RangeSensorFastPath, SonarConesEchoFromWhatEveryGeomTestedAlongEveryRayFind
 // alone (looking away) never.
 TEST(RangeSensorFastPath, SonarHearsTerrainTiltedTowardItAndNotGroundItGrazes) {
   const test::TempDir dir;
-  constexpr int n = 81;  // 0.25 m cells over 20 m: whole cells lie on the ramp
   const double rise = std::tan(55 * kDeg);
-  const auto height = [&](double x) { return std::clamp((x - 2.0) * rise, 0.0, 1.5); };
-  std::string pgm = "P5\n" + std::to_string(n) + " " + std::to_string(n) + "\n65535\n";
-  for (int row = 0; row < n; ++row)
-    for (int col = 0; col < n; ++col) {
-      const auto v = static_cast<unsigned>(std::lround(height(-10.0 + 20.0 * col / (n - 1)) / 2.0 * 65535.0));
-      pgm += {static_cast<char>(v >> 8), static_cast<char>(v & 0xff)};
-    }
-  const Scene scene(R"(<terrain type="heightmap" image=")" + dir.write("ramp.pgm", pgm) +
-                    R"(" size="20 20" min_height="0" max_height="2"/>)");
+  // 81 samples: 0.25 m cells, so that whole cells lie on the ramp.
+  const Scene scene(heightmap(dir, "ramp.pgm", 81, 0, 2,
+                              [&](double x, double) { return std::clamp((x - 2.0) * rise, 0.0, 1.5); }));
   std::vector<dGeomID> geoms;
   brute_force_into(scene.physics.static_space(), geoms);
   for (const double yaw : {0.0, 180.0}) {
@@ -604,16 +601,9 @@ TEST(RangeSensorFastPath, SonarHearsTerrainTiltedTowardItAndNotGroundItGrazes) {
 // found to hide it.
 TEST(RangeSensorFastPath, GroundThatCannotEchoStillHidesAMovingBodyBehindIt) {
   const test::TempDir dir;
-  constexpr int n = 81;  // 0.25 m cells over 20 m: the ridge's foot, top and foot are samples
-  const auto height = [](double x) { return 0.5 * std::max(0.0, 1.0 - std::abs(x - 2.0)); };
-  std::string pgm = "P5\n" + std::to_string(n) + " " + std::to_string(n) + "\n65535\n";
-  for (int row = 0; row < n; ++row)
-    for (int col = 0; col < n; ++col) {
-      const auto v = static_cast<unsigned>(std::lround(height(-10.0 + 20.0 * col / (n - 1)) * 65535.0));
-      pgm += {static_cast<char>(v >> 8), static_cast<char>(v & 0xff)};
-    }
-  const Scene scene(R"(<terrain type="heightmap" image=")" + dir.write("ridge.pgm", pgm) +
-                    R"(" size="20 20" min_height="0" max_height="1"/>)"
+  // 81 samples: 0.25 m cells, so that the ridge's feet and top are samples.
+  const Scene scene(heightmap(dir, "ridge.pgm", 81, 0, 1,
+                              [](double x, double) { return 0.5 * std::max(0.0, 1.0 - std::abs(x - 2.0)); }) +
                     R"(<box name="crate" pos="3.5 0" size="0.4 0.4 0.4" mass="1"/>)");
   RangeBeam beam = beam_at({0, 0, 0.1}, 0, 0, 4.5, 15);
   beam.resolution_rad = 2 * kDeg;
