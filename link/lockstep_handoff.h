@@ -18,6 +18,10 @@ void sear_handoff_give(uint32_t *turn, uint32_t value, uint32_t *peer_waiting);
 int sear_handoff_wait(uint32_t *turn, uint32_t value, uint32_t *self_waiting, int64_t spin_ns,
                       int64_t timeout_ns);
 
+/* How many PAUSEs a wait spins before it first yields, in this process: none where the process may
+ * run on one CPU only (its peer cannot run until it yields), a few dozen otherwise. */
+unsigned sear_handoff_spin_pauses(void);
+
 #ifdef __cplusplus
 }
 #endif
