@@ -9,16 +9,21 @@
 
 namespace {
 
-// sear_handoff_spin_pauses() in a child confined to the first `cpus` CPUs this process may use
-// (the answer is kept per process, so each question gets a fresh one).
+// sear_handoff_spin_pauses() in a child confined to the first `cpus` CPUs this process may use.
+// The answer is kept per process and a child inherits it: this test's process never asks itself.
 unsigned pauses_with(int cpus) {
   int fds[2];
   if (pipe(fds) != 0) return 9999;
   const pid_t pid = fork();
+  if (pid < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    return 9999;
+  }
   if (pid == 0) {
     cpu_set_t allowed, kept;
     CPU_ZERO(&kept);
-    sched_getaffinity(0, sizeof allowed, &allowed);
+    if (sched_getaffinity(0, sizeof allowed, &allowed) != 0) _exit(1);
     for (int cpu = 0, n = 0; cpu < CPU_SETSIZE && n < cpus; ++cpu)
       if (CPU_ISSET(cpu, &allowed)) {
         CPU_SET(cpu, &kept);

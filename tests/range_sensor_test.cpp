@@ -554,43 +554,55 @@ TEST(RangeSensorFastPath, SonarConesEchoFromWhatEveryGeomTestedAlongEveryRayFind
   std::printf("sonar cones: %d echoes, %d from moving bodies\n", echoes, from_moving);
 }
 
-// A heightmap ramp of 55 degrees (flat ground below it and above it) facing a sonar held level
-// 0.3 m above the ground: a level ray meets the ramp 35 degrees off its normal, within the 45
-// degrees that echo, while the rays that strike the flat ground ahead graze it at 75 degrees or
-// more. The fast path spares the rays that can strike only terrain too flat to echo; the ramp
-// must still be heard, at the distance of the reference's nearest echoing ray, and the ground
-// alone (looking away) never.
+// A sonar facing a heightmap ramp rising from x = 2 m, with flat ground below and above it, and
+// echoes within 45 degrees of a surface's normal: its nearest echo as the reference (every ray
+// through ODE) finds it, the ramp heard and the flat ground alone (looking away) never.
+// - A 30-degree ramp under a cone pitched 25 degrees down from 0.3 m, 1.5 m before it: rays more
+//   than 30 + 45 degrees from the vertical cannot echo off any cell, so the cone's rays within 15
+//   degrees of level are not cast; the ramp still echoes the rays 16 to 30 degrees down (35 to 44
+//   degrees off its normal), which are.
+// - A 55-degree ramp under a level cone 2 m before it: a level ray meets it 35 degrees off its
+//   normal, so no ray may be spared (the terrain's steepest cell leaves no bound).
 TEST(RangeSensorFastPath, SonarHearsTerrainTiltedTowardItAndNotGroundItGrazes) {
-  const test::TempDir dir;
-  const double rise = std::tan(55 * kDeg);
-  // 81 samples: 0.25 m cells, so that whole cells lie on the ramp.
-  const Scene scene(heightmap(dir, "ramp.pgm", 81, 0, 2,
-                              [&](double x, double) { return std::clamp((x - 2.0) * rise, 0.0, 1.5); }));
-  std::vector<dGeomID> geoms;
-  brute_force_into(scene.physics.static_space(), geoms);
-  for (const double yaw : {0.0, 180.0}) {
-    RangeBeam beam = beam_at({0, 0, 0.3}, yaw, 0, 4.5, 15);
-    beam.resolution_rad = 2 * kDeg;
-    beam.max_incidence_rad = 45 * kDeg;
-    const RangeSensor sensor(beam);
-    const RangeReading fast = sensor.measure(scene.physics, nullptr, -1);
-    RangeReading slow;
-    for (const auto& d : sensor.directions()) {
-      const RayHit h = test::ode_closest_hit(geoms, beam.position_m, d, beam.max_range_m, -1);
-      if (!h.hit || std::abs(h.normal_m.dot(d)) < std::cos(beam.max_incidence_rad)) continue;
-      if (!slow.hit || h.distance_m < slow.distance_m) {
-        slow.hit = true;
-        slow.distance_m = h.distance_m;
+  struct Case {
+    double slope_deg, x0, z0, pitch_deg;
+    bool spares;  // whether some of the cone's rays lie beyond the bound
+  };
+  for (const Case c : {Case{30, 1.5, 0.3, 25, true}, Case{55, 0, 0.3, 0, false}}) {
+    const test::TempDir dir;
+    const double rise = std::tan(c.slope_deg * kDeg);
+    // 81 samples: 0.25 m cells, so that whole cells lie on the ramp.
+    const Scene scene(heightmap(dir, "ramp.pgm", 81, 0, 2,
+                                [&](double x, double) { return std::clamp((x - 2.0) * rise, 0.0, 1.5); }));
+    std::vector<dGeomID> geoms;
+    brute_force_into(scene.physics.static_space(), geoms);
+    const RayScene& rays = RayScene::of(scene.physics);
+    const double grazing = rays.grazing_cos(45 * kDeg);
+    for (const double yaw : {0.0, 180.0}) {
+      RangeBeam beam = beam_at({c.x0, 0, c.z0}, yaw, c.pitch_deg, 4.5, 15);
+      beam.resolution_rad = 2 * kDeg;
+      beam.max_incidence_rad = 45 * kDeg;
+      const RangeSensor sensor(beam);
+      int spared = 0;
+      for (const auto& d : sensor.directions()) spared += std::abs(rays.terrain_up().dot(d)) < grazing;
+      EXPECT_EQ(spared > 0, c.spares) << c.slope_deg << " deg, " << spared << " rays beyond the bound";
+      const RangeReading fast = sensor.measure(scene.physics, nullptr, -1);
+      RangeReading slow;
+      for (const auto& d : sensor.directions()) {
+        const RayHit h = test::ode_closest_hit(geoms, beam.position_m, d, beam.max_range_m, -1);
+        if (!h.hit || std::abs(h.normal_m.dot(d)) < std::cos(beam.max_incidence_rad)) continue;
+        if (!slow.hit || h.distance_m < slow.distance_m) {
+          slow.hit = true;
+          slow.distance_m = h.distance_m;
+        }
       }
+      ASSERT_EQ(slow.hit, yaw == 0) << c.slope_deg << " deg: the reference hears the ramp, not the ground";
+      ASSERT_EQ(fast.hit, slow.hit) << c.slope_deg << " deg, yaw " << yaw;
+      if (!fast.hit) continue;
+      // Beyond the ramp's foot, and the same contact of ODE's heightfield collider to rounding.
+      EXPECT_GT(fast.distance_m, 2.0 - c.x0);
+      EXPECT_NEAR(fast.distance_m, slow.distance_m, 1e-9) << c.slope_deg << " deg";
     }
-    ASSERT_EQ(slow.hit, yaw == 0) << "the reference: the ramp echoes, the ground does not";
-    ASSERT_EQ(fast.hit, slow.hit) << yaw;
-    if (!fast.hit) continue;
-    // Between the ramp's foot (2 m) and where the level ray meets it (2 + 0.3 / tan 55 deg).
-    EXPECT_GT(fast.distance_m, 2.0);
-    EXPECT_LT(fast.distance_m, 2.0 + 0.3 / rise + 1e-9);
-    // The same contact of ODE's heightfield collider, to rounding.
-    EXPECT_NEAR(fast.distance_m, slow.distance_m, 1e-9);
   }
 }
 

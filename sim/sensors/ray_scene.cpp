@@ -116,13 +116,17 @@ Eigen::Vector3d cell_normal(const RayScene::Item& item, int c, int r, bool upper
   return (cell_vertex(item, c + 1, r) - D).cross(cell_vertex(item, c, r + 1) - D).normalized();
 }
 
-// The largest angle between any of a heightfield's triangles' normals and its up axis.
+// The largest angle between any of a heightfield's triangles' normals and its up axis (atan2, not
+// acos, which loses the angle of a nearly flat cell to rounding).
 double steepest_tilt(const RayScene::Item& item) {
-  double flattest = 1;  // the smallest |cos| of a normal to up
+  double steepest = 0;
   for (int row = 0; row + 1 < item.rows; ++row)
     for (int col = 0; col + 1 < item.columns; ++col)
-      for (const bool upper : {true, false}) flattest = std::min(flattest, std::abs(cell_normal(item, col, row, upper).y()));
-  return std::acos(flattest);
+      for (const bool upper : {true, false}) {
+        const Eigen::Vector3d n = cell_normal(item, col, row, upper);
+        steepest = std::max(steepest, std::atan2(std::hypot(n.x(), n.z()), std::abs(n.y())));
+      }
+  return steepest;
 }
 
 // The first t in [t_min, t_max] of `roots` (unsorted), with its normal; false for none.
