@@ -228,7 +228,8 @@ TEST(RangeSensorHits, FlatGroundAtHeightOverSinPitch) {
 // A <terrain> of height(x, y) sampled n x n over 20 x 20 m about the origin, as a 16-bit PGM
 // whose levels span [low, high] m.
 template <class Height>
-std::string heightmap(const test::TempDir& dir, const std::string& name, int n, double low, double high, Height height) {
+std::string heightmap(const test::TempDir& dir, const std::string& name, int n, double low, double high,
+                      Height height) {
   std::string pgm = "P5\n" + std::to_string(n) + " " + std::to_string(n) + "\n65535\n";
   for (int row = 0; row < n; ++row) {
     for (int col = 0; col < n; ++col) {
@@ -244,7 +245,9 @@ std::string heightmap(const test::TempDir& dir, const std::string& name, int n, 
 // The plane h = 1 + 0.1 y + 0.05 x as a 65 x 65 heightmap (as in terrain_test).
 double plane_height(double x, double y) { return 1.0 + 0.1 * y + 0.05 * x; }
 
-std::string sloped_heightmap(const test::TempDir& dir) { return heightmap(dir, "plane.pgm", 65, -0.5, 2.5, plane_height); }
+std::string sloped_heightmap(const test::TempDir& dir) {
+  return heightmap(dir, "plane.pgm", 65, -0.5, 2.5, plane_height);
+}
 
 TEST(RangeSensorHits, HeightmapTerrainWhereTheRayMeetsItsPlane) {
   const test::TempDir dir;

@@ -53,8 +53,9 @@ void SensorCsv::on_sample(std::size_t mcu, std::size_t device, const sear_link_s
   std::string rows;
   const std::size_t n = std::min<std::size_t>(meaning.quantity.size(), SEAR_LINK_SAMPLE_VALUES);
   for (std::size_t i = 0; i < n; ++i)
-    fmt::format_to(std::back_inserter(rows), FMT_COMPILE("{:.9f},{},{},{},{},{},truth\n"), static_cast<double>(sample.time_ns) * 1e-9,
-                   m.name, d.name, meaning.quantity[i], meaning.unit[i], sample.value[i]);
+    fmt::format_to(std::back_inserter(rows), FMT_COMPILE("{:.9f},{},{},{},{},{},truth\n"),
+                   static_cast<double>(sample.time_ns) * 1e-9, m.name, d.name, meaning.quantity[i], meaning.unit[i],
+                   sample.value[i]);
   m.file->write(rows);
 }
 
@@ -74,8 +75,9 @@ void SensorCsv::write_reading(Mcu& m, Device& d) {
   std::string rows;
   const std::size_t n = std::min(meaning.quantity.size(), d.held.size());
   for (std::size_t i = 0; i < n; ++i)
-    fmt::format_to(std::back_inserter(rows), FMT_COMPILE("{:.9f},{},{},{},{},{},reading\n"), static_cast<double>(d.held_ns) * 1e-9,
-                   m.name, d.name, meaning.quantity[i], meaning.unit[i], d.held[i]);
+    fmt::format_to(std::back_inserter(rows), FMT_COMPILE("{:.9f},{},{},{},{},{},reading\n"),
+                   static_cast<double>(d.held_ns) * 1e-9, m.name, d.name, meaning.quantity[i], meaning.unit[i],
+                   d.held[i]);
   m.file->write(rows);
   d.reading_written_ns = d.held_ns;
   d.reading_held = false;
