@@ -49,13 +49,19 @@ void SensorCsv::on_sample(std::size_t mcu, std::size_t device, const sear_link_s
   Device& d = m.devices[device];
   if (d.last_ns != INT64_MIN && sample.time_ns < d.last_ns + period_ns_) return;
   d.last_ns = sample.time_ns;
-  const ReadingMeaning& meaning = reading_meaning(d.element);
+  write_rows(m, d, reading_meaning(d.element), sample.time_ns, sample.value, SEAR_LINK_SAMPLE_VALUES, "truth");
+}
+
+// Compiled formats: a runtime one was parsed again for every row (a row a step, and more, on the
+// reference rover).
+void SensorCsv::write_rows(Mcu& m, const Device& d, const ReadingMeaning& meaning, std::int64_t time_ns,
+                           const double* values, std::size_t count, const char* source) {
   std::string rows;
-  const std::size_t n = std::min<std::size_t>(meaning.quantity.size(), SEAR_LINK_SAMPLE_VALUES);
+  const std::size_t n = std::min(meaning.quantity.size(), count);
   for (std::size_t i = 0; i < n; ++i)
-    fmt::format_to(std::back_inserter(rows), FMT_COMPILE("{:.9f},{},{},{},{},{},truth\n"),
-                   static_cast<double>(sample.time_ns) * 1e-9, m.name, d.name, meaning.quantity[i], meaning.unit[i],
-                   sample.value[i]);
+    fmt::format_to(std::back_inserter(rows), FMT_COMPILE("{:.9f},{},{},{},{},{},{}\n"),
+                   static_cast<double>(time_ns) * 1e-9, m.name, d.name, meaning.quantity[i], meaning.unit[i],
+                   values[i], source);
   m.file->write(rows);
 }
 
@@ -71,14 +77,7 @@ void SensorCsv::on_reading(std::size_t mcu, std::size_t device, std::int64_t tim
 }
 
 void SensorCsv::write_reading(Mcu& m, Device& d) {
-  const ReadingMeaning& meaning = output_meaning(d.element);
-  std::string rows;
-  const std::size_t n = std::min(meaning.quantity.size(), d.held.size());
-  for (std::size_t i = 0; i < n; ++i)
-    fmt::format_to(std::back_inserter(rows), FMT_COMPILE("{:.9f},{},{},{},{},{},reading\n"),
-                   static_cast<double>(d.held_ns) * 1e-9, m.name, d.name, meaning.quantity[i], meaning.unit[i],
-                   d.held[i]);
-  m.file->write(rows);
+  write_rows(m, d, output_meaning(d.element), d.held_ns, d.held.data(), d.held.size(), "reading");
   d.reading_written_ns = d.held_ns;
   d.reading_held = false;
 }

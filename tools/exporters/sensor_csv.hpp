@@ -15,6 +15,8 @@
 
 namespace sear {
 
+struct ReadingMeaning;  // lcm/reading_meaning.hpp
+
 // Columns: time_s (9 decimals), mcu, device, quantity, unit, value, source; one row per value.
 // source "truth": a sample's value at its time, meanings as reading_meaning() in
 // tools/lcm/reading_meaning.hpp gives them per element ("inf": no echo). source "reading": what
@@ -54,6 +56,9 @@ class SensorCsv final : public RunTap {
     std::vector<Device> devices;
   };
   void write_reading(Mcu& m, Device& d);
+  // One row per quantity of `meaning` (at most `count` values), from `source` ("truth", "reading").
+  static void write_rows(Mcu& m, const Device& d, const ReadingMeaning& meaning, std::int64_t time_ns,
+                         const double* values, std::size_t count, const char* source);
   std::vector<std::unique_ptr<BoundedFile>> files_;
   std::vector<Mcu> mcus_;
   std::int64_t period_ns_;
