@@ -346,16 +346,9 @@ int64_t mcu_devices_next_event(void) {
 }
 
 void mcu_devices_run_due(int64_t now_ns) {
-  while (mcu_devices_next_event() <= now_ns) {
-    int64_t t = MCU_TIME_NEVER;
-    uint32_t which = 0;
-    for (uint32_t i = 0; i < input_count(); ++i) {
-      if (devices[i].next_ns < t) {
-        t = devices[i].next_ns;
-        which = i;
-      }
-    }
-    if (t > now_ns) return;
+  for (int64_t t; (t = mcu_devices_next_event()) <= now_ns;) {
+    uint32_t which = 0; /* the first device due then */
+    while (which + 1 < input_count() && devices[which].next_ns != t) ++which;
     operation_ns = t;
     ops_of(which)->run_event(&devices[which], &link->inputs[which], t);
     refresh(which, t);
