@@ -7,6 +7,8 @@
 #   busy     the avoider beside one busy host process (`sh -c 'while :; do :; done'`, killed afterwards)
 #   two      two avoider rovers, each with its own MCU (bench/projects/avoider_two.xml)
 #   eight    eight such rovers (bench/projects/avoider_eight.xml)
+#   forest   the reference rover among 400 more obstacles, a third of them loose: what a crowded
+#            world costs beyond the default one (not run unless named in SCENARIOS)
 #   lcm      the default project publishing everything on LCM (`--lcm`, default 100 Hz), each run in
 #            its own private network namespace (unshare -n, root) with multicast on its loopback;
 #            compare its loop RTF with default's: the target is a cost under 10 %
@@ -39,9 +41,7 @@ cleanup() {
 trap cleanup EXIT
 
 # A bundled project with its relative paths made absolute, so that copies of it can live in $work.
-absolute_project() {
-  sed -e "s#\\([\" ]\\)\\.\\./\\.\\./#\\1$ROOT/#g" -e "s#\\([\" ]\\)\\.\\./#\\1$ROOT/assets/#g" "$ROOT/assets/projects/$1.xml"
-}
+absolute_project() { bench_absolute_paths <"$ROOT/assets/projects/$1.xml"; }
 
 run_scenario() {
   local name=$1 project=$2
@@ -73,6 +73,7 @@ run_scenario() {
 absolute_project default >"$work/default.xml"
 grep -v "<lms2xx" "$work/default.xml" >"$work/nolidar.xml"
 absolute_project avoider_hills >"$work/avoider.xml"
+bench_forest_project >"$work/forest.xml"
 
 echo "sear: $sear; $DURATION s simulated per run; $(nproc) cores; $(date -u '+%F %T') UTC"
 printf '%-8s %6s %10s %10s   %s   %s\n' scenario runs "loop RTF" "whole RTF" "load avg (1/5/15 min) at start" "[each run's loop RTF]"
@@ -83,6 +84,7 @@ for s in $SCENARIOS; do
     avoider | busy) project="$work/avoider.xml" ;;
     two) project="$here/projects/avoider_two.xml" ;;
     eight) project="$here/projects/avoider_eight.xml" ;;
+    forest) project="$work/forest.xml" ;;
     *) echo "run_rtf.sh: unknown scenario '$s'" >&2; exit 2 ;;
   esac
   if [[ -n $LOCK ]]; then

@@ -11,6 +11,7 @@
 #   two       two avoider rovers, an MCU each (bench/projects/avoider_two.xml)
 #   eight     eight of them (bench/projects/avoider_eight.xml)
 #   nolidar   the reference rover without its LMS200
+#   forest    the reference rover among 400 more obstacles, a third of them loose (not by default)
 #   noplots   the reference rover with --no-plots
 #   short     the reference rover for 1 s: the start-up (target: under 0.3 s outside the loop)
 # Given several binaries (an old and a new build), their runs alternate, run by run, so that they
@@ -34,6 +35,7 @@ SCENARIOS=${SCENARIOS:-"default avoider two eight nolidar noplots short"}
 work=$(mktemp -d /tmp/sear-side-by-side.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 bench_nolidar_project >"$work/nolidar.xml"
+bench_forest_project >"$work/forest.xml"
 
 echo "$RUNS runs per line (medians), $DURATION s simulated (short: 1 s); $(nproc) cores; $(date -u '+%F %T') UTC"
 for i in "${!binaries[@]}"; do echo "sear $((i + 1)): ${binaries[$i]}"; done
@@ -47,6 +49,7 @@ for s in $SCENARIOS; do
     two) project=$here/projects/avoider_two.xml ;;
     eight) project=$here/projects/avoider_eight.xml ;;
     nolidar) project=$work/nolidar.xml ;;
+    forest) project=$work/forest.xml ;;
     noplots) project=$ROOT/assets/projects/default.xml args=(--no-plots) ;;
     short) project=$ROOT/assets/projects/default.xml duration=1 ;;
     *) echo "side_by_side.sh: unknown scenario '$s'" >&2; exit 2 ;;

@@ -26,11 +26,35 @@ bench_median() {
 # bench_column N: the Nth field of each line on standard input.
 bench_column() { awk -v n="$1" '{ print $n }'; }
 
+# bench_absolute_paths: a project of $ROOT/assets/projects on standard input with its relative
+# paths made absolute, so that it runs from anywhere, on standard output.
+bench_absolute_paths() {
+  sed -e "s#\\([\" ]\\)\\.\\./\\.\\./#\\1$ROOT/#g" -e "s#\\([\" ]\\)\\.\\./#\\1$ROOT/assets/#g"
+}
+
 # bench_nolidar_project: the default project (the reference rover) without its LMS200, its paths
-# made absolute from $ROOT so that it runs from anywhere, on standard output.
-bench_nolidar_project() {
-  grep -v "<lms2xx" "$ROOT/assets/projects/default.xml" |
-    sed -e "s#\\([\" ]\\)\\.\\./\\.\\./#\\1$ROOT/#g" -e "s#\\([\" ]\\)\\.\\./#\\1$ROOT/assets/#g"
+# made absolute, on standard output.
+bench_nolidar_project() { grep -v "<lms2xx" "$ROOT/assets/projects/default.xml" | bench_absolute_paths; }
+
+# bench_forest_project: the reference rover's project in its world crowded with 400 more
+# obstacles over the arena (crates, trees, and loose boxes a third of them, so that the rover meets
+# some), its paths absolute from $ROOT, on standard output. The same world on every machine: the
+# places come from Park and Miller's minimal standard generator, exact in awk's doubles.
+bench_forest_project() {
+  awk '
+    function next_unit() { seed = (seed * 16807) % 2147483647; return seed / 2147483647 }
+    BEGIN { seed = 3 }
+    /<\/world>/ {
+      for (n = 0; n < 400;) {
+        x = -14 + 28 * next_unit(); y = -14 + 26 * next_unit()
+        if (x * x + y * y < 9) continue  # the start stays clear
+        if (n % 3 == 0) printf "    <box name=\"crate%d\" pos=\"%.2f %.2f\" size=\"0.2 0.2 0.3\" material=\"wood\"/>\n", n, x, y
+        else if (n % 3 == 1) printf "    <tree name=\"tree%d\" pos=\"%.2f %.2f\" trunk_radius=\"0.1\" trunk_height=\"2\" crown_radius=\"0.6\" material=\"wood\"/>\n", n, x, y
+        else printf "    <box name=\"loose%d\" pos=\"%.2f %.2f\" size=\"0.3 0.3 0.3\" mass=\"0.5\" material=\"wood\"/>\n", n, x, y
+        n++
+      }
+    }
+    { print }' "$ROOT/assets/projects/default.xml" | bench_absolute_paths
 }
 
 # bench_load: the load average over 1, 5 and 15 minutes, now.

@@ -56,6 +56,7 @@ PhysicsWorld::PhysicsWorld(const WorldDesc& desc, std::uint64_t seed)
   dWorldSetContactMaxCorrectingVel(world_, 1.0);
   static_space_ = dHashSpaceCreate(nullptr);
   dynamic_space_ = dSimpleSpaceCreate(nullptr);
+  broadphase_ = std::make_unique<Broadphase>(static_space_, dynamic_space_);
   contacts_ = dJointGroupCreate(0);
 }
 
@@ -218,9 +219,7 @@ void PhysicsWorld::collide_pair(dGeomID a, dGeomID b) {
 void PhysicsWorld::step() {
   touches_.clear();
   contact_count_ = 0;
-  dSpaceCollide(dynamic_space_, this, &PhysicsWorld::near_callback);
-  dSpaceCollide2(reinterpret_cast<dGeomID>(dynamic_space_), reinterpret_cast<dGeomID>(static_space_), this,
-                 &PhysicsWorld::near_callback);
+  broadphase_->collide(this, &PhysicsWorld::near_callback);
   dWorldQuickStep(world_, step_s_);
   dJointGroupEmpty(contacts_);
 }

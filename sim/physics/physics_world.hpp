@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "physics/broadphase.hpp"
 #include "scene/description.hpp"
 
 namespace sear {
@@ -97,6 +98,7 @@ class PhysicsWorld {
   dWorldID world_;
   dSpaceID static_space_;
   dSpaceID dynamic_space_;
+  std::unique_ptr<Broadphase> broadphase_;
   dJointGroupID contacts_;
   dGeomID terrain_geom_ = nullptr;
   TerrainKind terrain_kind_ = TerrainKind::Mesh;  // until set_terrain_samples() says otherwise

@@ -553,6 +553,13 @@ RayScene::RayScene(const PhysicsWorld& physics) : device_(shared_device()) {
     rtcSetGeometryIntersectFunction(geometry, &shape_intersect);
     attach(geometry, std::move(shapes));
   }
+  std::vector<std::array<double, 6>> boxes;
+  for (std::uint32_t i = 0; i < all_.size(); ++i) {
+    const double* a = all_[i].aabb;
+    boxes.push_back({a[0], a[1], a[2], a[3], a[4], a[5]});
+    index_of_.emplace(all_[i].geom, i);
+  }
+  grid_ = BoxGrid(boxes);
   rtcCommitScene(scene_);
   const RTCError error = rtcGetDeviceError(device);
   if (error != RTC_ERROR_NONE)
@@ -571,7 +578,8 @@ void RayScene::others_near(const double box[6], double slack_m, int ignore_entit
                            std::vector<std::array<double, 6>>& out) const {
   out.clear();
   const double margin = hit_margin(slack_m);
-  for (const StaticGeom& g : all_) {
+  for (std::uint32_t i : grid_.near(box, margin)) {
+    const StaticGeom& g = all_[i];
     if (g.geom == terrain_ || (ignore_entity >= 0 && g.entity == ignore_entity)) continue;
     if (!detail::boxes_meet(g.aabb, box, margin)) continue;
     out.push_back({g.aabb[0] - margin, g.aabb[1] + margin, g.aabb[2] - margin, g.aabb[3] + margin,
@@ -692,13 +700,10 @@ bool RayScene::refine(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
   const dGeomID struck = item.kind == Item::Kind::Shapes ? item.shapes.at(hit.prim).geom : item.geom;
   const double slack = float_slack_m(hit.t, origin.norm());
   RayHit best;
-  bool found = false;
-  for (const StaticGeom& g : all_)
-    if (g.geom == struck) {
-      found = exact(g, origin, dir, std::max(0.0, hit.t - slack), std::min(limit_m, hit.t + slack), best);
-      break;
-    }
-  if (!found) return false;
+  const auto kept = index_of_.find(struck);
+  if (kept == index_of_.end() ||
+      !exact(all_[kept->second], origin, dir, std::max(0.0, hit.t - slack), std::min(limit_m, hit.t + slack), best))
+    return false;
   // Anything else within rounding before it: the foot of a wall in the ground, a box on a box.
   // The stretch is a fraction of a millimetre, so most boxes lie clear of its own box: that test
   // first, with room to spare, spares the slab test's three divisions for every geom of the
@@ -709,7 +714,8 @@ bool RayScene::refine(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
   const double stretch[6] = {std::min(start.x(), end.x()), std::max(start.x(), end.x()),
                              std::min(start.y(), end.y()), std::max(start.y(), end.y()),
                              std::min(start.z(), end.z()), std::max(start.z(), end.z())};
-  for (const StaticGeom& g : all_) {
+  for (std::uint32_t i : grid_.near(stretch, 2 * detail::kAabbSlack_m)) {
+    const StaticGeom& g = all_[i];
     if (g.geom == struck || (ignore_entity >= 0 && g.entity == ignore_entity)) continue;
     if (!detail::boxes_meet(g.aabb, stretch, 2 * detail::kAabbSlack_m)) continue;
     if (!detail::segment_meets_box(start, dir, best.distance_m - from, g.aabb)) continue;
@@ -721,12 +727,14 @@ bool RayScene::refine(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
 
 bool RayScene::clear_of(const double box[6], double terrain_ceiling_m, double slack_m, int ignore_entity) const {
   const double margin = hit_margin(slack_m);
-  for (const StaticGeom& g : all_) {
-    if (ignore_entity >= 0 && g.entity == ignore_entity) continue;
-    if (g.geom == terrain_) {
-      if (!(box[4] - margin > terrain_ceiling_m)) return false;
-      continue;
-    }
+  // The terrain is judged by its samples under the box, not by its own box.
+  const auto terrain = index_of_.find(terrain_);
+  if (terrain != index_of_.end() && !(ignore_entity >= 0 && all_[terrain->second].entity == ignore_entity) &&
+      !(box[4] - margin > terrain_ceiling_m))
+    return false;
+  for (std::uint32_t i : grid_.near(box, margin)) {
+    const StaticGeom& g = all_[i];
+    if (g.geom == terrain_ || (ignore_entity >= 0 && g.entity == ignore_entity)) continue;
     if (detail::boxes_meet(g.aabb, box, margin)) return false;
   }
   return true;
@@ -737,7 +745,12 @@ RayHit RayScene::ode_nearest(const Eigen::Vector3d& origin, const Eigen::Vector3
   RayHit best;
   double limit = limit_m;
   dContactGeom contacts[kMaxContacts];
-  for (const StaticGeom& g : all_) {
+  const Eigen::Vector3d end = origin + limit_m * dir;
+  const double reach[6] = {std::min(origin.x(), end.x()), std::max(origin.x(), end.x()),
+                           std::min(origin.y(), end.y()), std::max(origin.y(), end.y()),
+                           std::min(origin.z(), end.z()), std::max(origin.z(), end.z())};
+  for (std::uint32_t i : grid_.near(reach)) {
+    const StaticGeom& g = all_[i];
     if (ignore_entity >= 0 && g.entity == ignore_entity) continue;
     if (!detail::segment_meets_box(origin, dir, limit, g.aabb)) continue;
     dGeomRaySetLength(ray_, limit);

@@ -11,8 +11,10 @@
 #include <array>
 #include <cstddef>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
+#include "physics/box_grid.hpp"
 #include "physics/physics_world.hpp"
 
 struct RTCDeviceTy;
@@ -128,6 +130,10 @@ class RayScene {
   bool exact(const StaticGeom& g, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double from_m,
              double limit_m, RayHit& out) const;
   std::vector<StaticGeom> all_;  // every tagged static geom, for ode_nearest()
+  // all_ filed by where its boxes lie, and by geom: a world of many obstacles costs a ray what
+  // the few near it do.
+  BoxGrid grid_;
+  std::unordered_map<dGeomID, std::uint32_t> index_of_;
   std::size_t triangles_ = 0;
   int static_count_ = 0;
   dGeomID ray_ = nullptr;  // a ray in no space, for refine() and ode_nearest()
