@@ -347,6 +347,39 @@ TEST(RangeSensorHits, RobotDoesNotSeeItsOwnChassisOrWheels) {
   EXPECT_NEAR(wall.distance_m, (1.0 - centre.y()) / leftward.y(), 1e-6);
 }
 
+// While the lockstep holds the world still, its sensors share one list of what moves, made at the
+// first ask: every reading within the hold is the one a sensor makes alone, and a body moved
+// between two holds is seen where it went.
+TEST(RangeSensorHits, SensorsHoldingTheWorldStillSeeWhatMovesWhereItIs) {
+  // A crate beside the beam, then moved into it: a list kept from before the move would leave it
+  // out by its old box.
+  const ProjectDesc project = test::project_from_xml(test::project_xml(
+      R"(step="0.001")", R"(<box name="crate" pos="1 2" size="0.2 0.2 0.2" mass="1"/>)", ""));
+  Simulation sim(project, 1);
+  test::run_for(sim, 0.2);  // the crate settles on the ground, its centre 0.1 m up
+  dBodyID crate = dGeomGetBody(dSpaceGetGeom(sim.physics().dynamic_space(), 0));
+  ASSERT_NE(crate, nullptr);
+  const RangeSensor sensor(beam_at({0, 0, 0.1}, 0, 0, 5));
+  EXPECT_FALSE(sensor.measure(sim.physics(), nullptr, -1).hit);
+  {
+    const PhysicsWorld::HoldStill still(sim.physics());
+    ASSERT_NE(sim.physics().moving_held_still(), nullptr);
+    EXPECT_FALSE(sensor.measure(sim.physics(), nullptr, -1).hit);
+    EXPECT_FALSE(sensor.measure(sim.physics(), nullptr, -1).hit);  // from the list
+  }
+  EXPECT_EQ(sim.physics().moving_held_still(), nullptr);
+  const dReal* at = dBodyGetPosition(crate);
+  dBodySetPosition(crate, at[0], 0, at[2]);
+  const double face = at[0] - 0.1;
+  {
+    const PhysicsWorld::HoldStill still(sim.physics());
+    const RangeReading held = sensor.measure(sim.physics(), nullptr, -1);
+    ASSERT_TRUE(held.hit);
+    EXPECT_NEAR(held.distance_m, face, 1e-6);
+    EXPECT_EQ(held.entity, entity_of(sim.physics(), "crate"));
+  }
+}
+
 // Where a ray from `origin` first meets a vertical cylinder of radius r about (cx, cy), z 0..height;
 // infinity if it does not.
 double ray_meets_pole(const Eigen::Vector3d& origin, const Eigen::Vector3d& d, double cx, double cy, double r,

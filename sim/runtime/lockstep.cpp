@@ -62,9 +62,13 @@ bool Lockstep::step(const std::function<void()>& alongside) {
   // firmware and physics share the cores instead of taking turns. A motor thus acts one quantum
   // (1 ms) after the pin change that commands it, as an H-bridge and a gearbox lag anyway; the
   // order is fixed, so runs stay byte-identical. This took the default project from 77x to 87x.
-  if (can_) can_->begin_quantum(sim_, t0, t1);
-  for (std::size_t i = 0; i < bridges_.size(); ++i)
-    if (running_[i]) bridges_[i]->begin_quantum(sim_.physics(), t0, t1);
+  {
+    // Nothing moves while the sensors measure: they share one list of what moves.
+    const PhysicsWorld::HoldStill still(sim_.physics());
+    if (can_) can_->begin_quantum(sim_, t0, t1);
+    for (std::size_t i = 0; i < bridges_.size(); ++i)
+      if (running_[i]) bridges_[i]->begin_quantum(sim_.physics(), t0, t1);
+  }
   clock.to(&wall_.before_quantum_ns);
   if (alongside) alongside();
   clock.to(&wall_.alongside_ns);

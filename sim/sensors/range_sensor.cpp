@@ -188,6 +188,21 @@ dGeomID RangeSensor::ray() const {
   return ray_.get();
 }
 
+namespace {
+
+// A geom a ray may strike, if its box meets the beam's.
+void consider(dGeomID geom, const double aabb[6], const double bounds[6], int ignore_entity,
+              std::vector<detail::RayCandidate>& out) {
+  // Untagged geoms take part in no contact (PhysicsWorld::collide_pair): not solid to a ray either.
+  const auto* tag = static_cast<const GeomTag*>(dGeomGetData(geom));
+  if (!tag || (ignore_entity >= 0 && tag->entity == ignore_entity)) return;
+  if (tag->role == GeomRole::Tread) return;  // meets only the ground; rays see the tyre
+  if (!detail::boxes_meet(aabb, bounds, kAabbSlack_m)) return;
+  out.push_back({geom, tag->entity, {aabb[0], aabb[1], aabb[2], aabb[3], aabb[4], aabb[5]}});
+}
+
+}  // namespace
+
 void RangeSensor::gather(dSpaceID space, const double bounds[6], int ignore_entity, std::vector<Candidate>& out) {
   const int count = dSpaceGetNumGeoms(space);
   for (int i = 0; i < count; ++i) {  // sequential indices are O(1) each in ODE's spaces
@@ -196,14 +211,17 @@ void RangeSensor::gather(dSpaceID space, const double bounds[6], int ignore_enti
       gather(reinterpret_cast<dSpaceID>(geom), bounds, ignore_entity, out);
       continue;
     }
-    // Untagged geoms take part in no contact (PhysicsWorld::collide_pair): not solid to a ray either.
-    const auto* tag = static_cast<const GeomTag*>(dGeomGetData(geom));
-    if (!tag || (ignore_entity >= 0 && tag->entity == ignore_entity)) continue;
-    if (tag->role == GeomRole::Tread) continue;  // meets only the ground; rays see the tyre
-    Candidate c{geom, tag->entity, {}};
-    dGeomGetAABB(geom, c.aabb);  // brings a moved body's box up to date first
-    if (detail::boxes_meet(c.aabb, bounds, kAabbSlack_m)) out.push_back(c);
+    double aabb[6];
+    dGeomGetAABB(geom, aabb);  // brings a moved body's box up to date first
+    consider(geom, aabb, bounds, ignore_entity, out);
   }
+}
+
+void RangeSensor::gather_moving(const PhysicsWorld& physics, const double bounds[6], int ignore_entity,
+                                std::vector<Candidate>& out) {
+  const std::vector<PhysicsWorld::GeomBox>* listed = physics.moving_held_still();
+  if (!listed) return gather(physics.dynamic_space(), bounds, ignore_entity, out);
+  for (const PhysicsWorld::GeomBox& g : *listed) consider(g.geom, g.aabb, bounds, ignore_entity, out);
 }
 
 Eigen::Vector3d RangeSensor::place(const Eigen::Vector3d& mount_position_m, const Eigen::Matrix3d& mount_rotation,
@@ -335,7 +353,7 @@ RangeReading RangeSensor::measure(const PhysicsWorld& physics, const Eigen::Vect
   // Bodies that move, and any static geom the BVH does not hold, through ODE: one pass over the
   // dynamic space per call, keeping only geoms whose boxes meet the beam's.
   candidates_.clear();
-  gather(physics.dynamic_space(), bounds, ignore_entity, candidates_);
+  gather_moving(physics, bounds, ignore_entity, candidates_);
   gather_geoms(scene.ode_only(), bounds, ignore_entity, candidates_);
   RangeReading reading;
   if (beam_.max_incidence_rad < 0.5 * kPi) {
@@ -425,7 +443,7 @@ bool RangeSensorSet::any_hit(const PhysicsWorld& physics, const Eigen::Vector3d&
     if (s.beam_.max_incidence_rad < 0.5 * kPi && s.measure(physics, mount_position_m, mount_rotation, ignore_entity).hit)
       return true;
   candidates_.clear();
-  RangeSensor::gather(physics.dynamic_space(), bounds, ignore_entity, candidates_);
+  RangeSensor::gather_moving(physics, bounds, ignore_entity, candidates_);
   gather_geoms(scene.ode_only(), bounds, ignore_entity, candidates_);
   // A geom near one beam but not another is skipped per ray by the box test in cast(): the
   // shared list finds the same hits as each sensor's own.
@@ -558,7 +576,7 @@ void RangeScan::scan(const PhysicsWorld& physics, const Eigen::Vector3d& mount_p
   double bounds[6];
   fan_bounds(origin, a, b, cos_, sin_, fan_.max_range_m, bounds);
   candidates_.clear();
-  RangeSensor::gather(physics.dynamic_space(), bounds, ignore_entity, candidates_);
+  RangeSensor::gather_moving(physics, bounds, ignore_entity, candidates_);
   gather_geoms(scene.ode_only(), bounds, ignore_entity, candidates_);
   if (candidates_.empty()) return;
   if (!ray_) ray_.reset(new_ray());

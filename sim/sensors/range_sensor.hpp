@@ -122,6 +122,9 @@ class RangeSensor {
   // Every tagged geom of `space` (and the spaces in it) whose box meets `bounds`, but those of
   // `ignore_entity`, appended to `out` in the space's order.
   static void gather(dSpaceID space, const double bounds[6], int ignore_entity, std::vector<Candidate>& out);
+  // The same for the dynamic space, from the list a HoldStill keeps (PhysicsWorld) when one does.
+  static void gather_moving(const PhysicsWorld& physics, const double bounds[6], int ignore_entity,
+                            std::vector<Candidate>& out);
   // The closest hit of the placed rays among `candidates`, nearer than `reading` (a hit already
   // found, or none with distance_m the max range); with `first_hit_will_do` it stops at the first
   // hit it finds, which then need not be the closest.
