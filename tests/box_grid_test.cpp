@@ -82,6 +82,21 @@ TEST(BoxGrid, CellsOfAMetreReturnOnlyWhatIsNear) {
   EXPECT_NE(std::find(near.begin(), near.end(), 5u * 20u + 5u), near.end());
 }
 
+// Boxes strung along a line 1000 km long: the grid stays within its cells (a line of them), and
+// still finds each box.
+TEST(BoxGrid, BoxesAlongALongLineStillFound) {
+  std::vector<Box> boxes;
+  for (int i = 0; i <= 100; ++i) boxes.push_back({i * 1e4, i * 1e4 + 1, 0, 0.5, 0, 1});
+  const BoxGrid grid(boxes);
+  EXPECT_LE(grid.cell_count(), 3u * 65536u + 1u);  // cells over 0.5 m x 1000 km at the least area
+  for (int i = 0; i <= 100; ++i) {
+    const double query[6] = {i * 1e4 + 0.5, i * 1e4 + 0.6, 0.2, 0.3, 0, 1};
+    const std::vector<std::uint32_t>& near = grid.near(query);
+    EXPECT_TRUE(std::binary_search(near.begin(), near.end(), static_cast<std::uint32_t>(i)));
+    EXPECT_LE(near.size(), 2u);  // cells of 15 m, boxes 10 km apart
+  }
+}
+
 TEST(BoxGrid, UnboundedOrNaNQueriesGetEverything) {
   std::vector<Box> boxes;
   for (int i = 0; i < 50; ++i) boxes.push_back({i * 1.0, i + 0.5, 0, 0.5, 0, 0.5});

@@ -26,7 +26,9 @@ BoxGrid::BoxGrid(const std::vector<std::array<double, 6>>& boxes) : count_(boxes
     lo[1] = std::min(lo[1], b[2]), hi[1] = std::max(hi[1], b[3]);
   }
   if (!(lo[0] <= hi[0] && lo[1] <= hi[1])) lo[0] = hi[0] = lo[1] = hi[1] = 0;
-  cell_m_ = std::max(kMinCellM, std::sqrt((hi[0] - lo[0]) * (hi[1] - lo[1]) / kMaxGridCells));
+  // At most kMaxGridCells along either side, and about as many (three times at worst) in all.
+  const double width = hi[0] - lo[0], depth = hi[1] - lo[1];
+  cell_m_ = std::max({kMinCellM, std::sqrt(width * depth / kMaxGridCells), width / kMaxGridCells, depth / kMaxGridCells});
   x0_ = lo[0], y0_ = lo[1];
   columns_ = static_cast<std::int64_t>(std::floor((hi[0] - lo[0]) / cell_m_)) + 1;
   rows_ = static_cast<std::int64_t>(std::floor((hi[1] - lo[1]) / cell_m_)) + 1;

@@ -20,6 +20,7 @@ class BoxGrid {
   // Valid until the next call.
   const std::vector<std::uint32_t>& near(const double box[6], double margin = 0) const;
   std::size_t size() const { return count_; }
+  std::size_t cell_count() const { return cells_.size(); }  // at most about 3 x 65536
 
  private:
   struct Cells {

@@ -220,7 +220,10 @@ void RangeSensor::gather(dSpaceID space, const double bounds[6], int ignore_enti
 void RangeSensor::gather_moving(const PhysicsWorld& physics, const double bounds[6], int ignore_entity,
                                 std::vector<Candidate>& out) {
   const std::vector<PhysicsWorld::GeomBox>* listed = physics.moving_held_still();
-  if (!listed) return gather(physics.dynamic_space(), bounds, ignore_entity, out);
+  if (!listed) {
+    gather(physics.dynamic_space(), bounds, ignore_entity, out);
+    return;
+  }
   for (const PhysicsWorld::GeomBox& g : *listed) consider(g.geom, g.aabb, bounds, ignore_entity, out);
 }
 
