@@ -37,8 +37,8 @@ bench_absolute_paths() {
 bench_nolidar_project() { grep -v "<lms2xx" "$ROOT/assets/projects/default.xml" | bench_absolute_paths; }
 
 # bench_forest_project: the reference rover's project in its world crowded with 400 more
-# obstacles over the arena (crates, trees, and loose boxes a third of them, so that the rover meets
-# some), its paths absolute from $ROOT, on standard output. The same world on every machine: the
+# obstacles over the arena (crates, trees and, a third of them, loose boxes that ODE solves as they
+# settle on the hills), its paths absolute from $ROOT, on standard output. The same world on every machine: the
 # places come from Park and Miller's minimal standard generator, exact in awk's doubles.
 bench_forest_project() {
   awk '
