@@ -216,28 +216,14 @@ void PhysicsWorld::collide_pair(dGeomID a, dGeomID b) {
   if (is_robot(tb)) note(tb, ta);
 }
 
-namespace {
-
-void list_geoms(dSpaceID space, std::vector<PhysicsWorld::GeomBox>& out) {
-  const int count = dSpaceGetNumGeoms(space);
-  for (int i = 0; i < count; ++i) {  // sequential indices are O(1) each in ODE's spaces
-    dGeomID geom = dSpaceGetGeom(space, i);
-    if (dGeomIsSpace(geom)) {
-      list_geoms(reinterpret_cast<dSpaceID>(geom), out);
-      continue;
-    }
-    out.push_back({geom, {}});
-    dGeomGetAABB(geom, out.back().aabb);  // brings a moved body's box up to date first
-  }
-}
-
-}  // namespace
-
 const std::vector<PhysicsWorld::GeomBox>* PhysicsWorld::moving_held_still() const {
   if (!holding_still_) return nullptr;
   if (!moving_listed_) {
     moving_.clear();
-    list_geoms(dynamic_space_, moving_);
+    for_each_geom(dynamic_space_, [&](dGeomID geom) {
+      moving_.push_back({geom, {}});
+      dGeomGetAABB(geom, moving_.back().aabb);  // brings a moved body's box up to date first
+    });
     moving_listed_ = true;
   }
   return &moving_;

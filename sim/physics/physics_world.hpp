@@ -38,6 +38,18 @@ struct Touch {
   bool operator==(const Touch& o) const { return robot_entity == o.robot_entity && other_entity == o.other_entity; }
 };
 
+// Calls f(geom) for each geom of `space` and of the spaces within it, in ODE's list order (a
+// sub-space's geoms where it stands); sequential indices are O(1) each in ODE's spaces.
+template <class F>
+void for_each_geom(dSpaceID space, F&& f) {
+  const int count = dSpaceGetNumGeoms(space);
+  for (int i = 0; i < count; ++i) {
+    dGeomID geom = dSpaceGetGeom(space, i);
+    if (dGeomIsSpace(geom)) for_each_geom(reinterpret_cast<dSpaceID>(geom), f);
+    else f(geom);
+  }
+}
+
 class PhysicsWorld {
  public:
   PhysicsWorld(const WorldDesc& desc, std::uint64_t seed);

@@ -204,17 +204,11 @@ void consider(dGeomID geom, const double aabb[6], const double bounds[6], int ig
 }  // namespace
 
 void RangeSensor::gather(dSpaceID space, const double bounds[6], int ignore_entity, std::vector<Candidate>& out) {
-  const int count = dSpaceGetNumGeoms(space);
-  for (int i = 0; i < count; ++i) {  // sequential indices are O(1) each in ODE's spaces
-    dGeomID geom = dSpaceGetGeom(space, i);
-    if (dGeomIsSpace(geom)) {
-      gather(reinterpret_cast<dSpaceID>(geom), bounds, ignore_entity, out);
-      continue;
-    }
+  for_each_geom(space, [&](dGeomID geom) {
     double aabb[6];
     dGeomGetAABB(geom, aabb);  // brings a moved body's box up to date first
     consider(geom, aabb, bounds, ignore_entity, out);
-  }
+  });
 }
 
 void RangeSensor::gather_moving(const PhysicsWorld& physics, const double bounds[6], int ignore_entity,
