@@ -29,10 +29,13 @@ sear::ProjectDesc bench_project(const char* firmware, double hal_call_cycles) {
 
 struct ConsoleLine : sear::McuListener {
   std::string line, last;
-  void on_event(std::size_t, const sear_event& e) override {
-    if (e.kind != SEAR_EVENT_UART_TX) return;
-    if (e.value == '\n') last = line, line.clear();
-    else line.push_back(static_cast<char>(e.value));
+  void on_events(std::size_t, const sear_event* events, std::size_t count) override {
+    for (std::size_t i = 0; i < count; ++i) {
+      const sear_event& e = events[i];
+      if (e.kind != SEAR_EVENT_UART_TX) continue;
+      if (e.value == '\n') last = line, line.clear();
+      else line.push_back(static_cast<char>(e.value));
+    }
   }
   void on_stop(std::size_t, std::int64_t) override {}
 };

@@ -83,7 +83,7 @@ class Recorder final : public RunTap {
 };
 
 class NoListener final : public McuListener {
-  void on_event(std::size_t, const sear_event&) override {}
+  void on_events(std::size_t, const sear_event*, std::size_t) override {}
   void on_stop(std::size_t, std::int64_t) override {}
 };
 

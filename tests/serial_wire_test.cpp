@@ -154,6 +154,37 @@ TEST(SerialWire, NineSixHundredReadAtNineteenTwoHundredGivesThePredictedGarbage)
   EXPECT_EQ(wire.framing_errors(), 1u);
 }
 
+// A stream read as sent while the rates match stops being read so the moment the receiver
+// changes its rate: the frames whose start edges come after the change are read at the new
+// rate, as a receiver begun then at that rate reads them from the idle line (the line is idle
+// between the stop bit the receiver last sampled and the next start edge).
+TEST(SerialWire, AReceiversChangeOfRateMidStreamReadsTheFramesAfterItAtTheNewRate) {
+  const int64_t frame = serial_frame_ns(9600);
+  std::vector<serial_byte> sent;
+  for (int i = 0; i < 8; ++i) sent.push_back(byte_at(kStart_ns + (i + 1) * frame, 9600, static_cast<uint8_t>('0' + i)));
+  const int64_t change_ns = kStart_ns + 4 * frame;  // the fifth frame's start edge
+  SerialWire wire(false);
+  wire.set_receiver_baud(9600, 0);
+  wire.set_receiver_baud(19200, change_ns);
+  for (const serial_byte& b : sent) wire.send(b);
+  const std::vector<serial_byte> got = receive_all(wire, kStart_ns + 20 * frame);
+
+  SerialWire after(false);
+  const std::vector<serial_byte> expected_after =
+      read_through(after, 19200, std::vector<serial_byte>(sent.begin() + 4, sent.end()), kStart_ns + 20 * frame);
+  ASSERT_GE(expected_after.size(), 4u);  // each 9600 frame read at twice the rate gives one or two bytes
+  ASSERT_EQ(got.size(), 4 + expected_after.size());
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(got[i].value, sent[i].value) << i;
+    EXPECT_EQ(got[i].end_ns, sent[i].end_ns) << i;
+  }
+  for (size_t i = 0; i < expected_after.size(); ++i) {
+    EXPECT_EQ(got[4 + i].value, expected_after[i].value) << i;
+    EXPECT_EQ(got[4 + i].end_ns, expected_after[i].end_ns) << i;
+    EXPECT_EQ(got[4 + i].baud, 19200u) << i;
+  }
+}
+
 // '0' (0x30: data 0 0 0 0 1 1 0 0) sent at 9600, read at 4800. Receiver bits are 2 T; samples
 // at (2k + 1.06) T from the start edge, so it reads every other sender bit:
 //   k:           0   1   2   3   4    5 .. 8 | 9 (stop)

@@ -221,7 +221,7 @@ TEST(ViewScene, HeightmapGridAndBigMeshesAreBounded) {
 
 class NoListener : public McuListener {
  public:
-  void on_event(std::size_t, const sear_event&) override {}
+  void on_events(std::size_t, const sear_event*, std::size_t) override {}
   void on_stop(std::size_t, std::int64_t) override {}
 };
 

@@ -229,7 +229,8 @@ void McuBridge::soft_uart_out(SerialLink& s, std::int64_t t0, std::int64_t t1) {
 void McuBridge::drain(std::size_t index, McuListener& listener) {
   // Each event has passed the link's checks: a firmware that scribbled over its queue is stopped
   // at the first bad one, and nothing it made up reaches the pins, the motors or a file.
-  for (const sear_event& e : process_->events()) {
+  const std::vector<sear_event>& events = process_->events();
+  for (const sear_event& e : events) {
     switch (e.kind) {
       case SEAR_EVENT_PIN_MODE:
         pin_output_[e.index] = e.value == 1;  // OUTPUT
@@ -285,9 +286,11 @@ void McuBridge::drain(std::size_t index, McuListener& listener) {
       default:
         break;
     }
-    listener.on_event(index, e);
-    if (tap_) tap_->on_mcu_event(index, e);
   }
+  // They only hear of the events, so hearing of them all once they are applied changes nothing.
+  if (events.empty()) return;
+  listener.on_events(index, events.data(), events.size());
+  if (tap_) tap_->on_mcu_events(index, events.data(), events.size());
 }
 
 void McuBridge::command_actuators() {

@@ -17,8 +17,9 @@ struct CanTransfer;  // runtime/can_bus.hpp
 class RunTap {
  public:
   virtual ~RunTap() = default;
-  // A firmware's pin, PWM, servo, UART or CAN event, in its time order; `mcu` as Lockstep::mcu(i).
-  virtual void on_mcu_event(std::size_t /*mcu*/, const sear_event& /*event*/) {}
+  // A firmware's pin, PWM, servo, UART or CAN events, in its time order, a drain's worth at a time
+  // (as McuListener::on_events); `mcu` as Lockstep::mcu(i).
+  virtual void on_mcu_events(std::size_t /*mcu*/, const sear_event* /*events*/, std::size_t /*count*/) {}
   // What device `device` (index into that MCU's McuDesc::devices) measured for its model in the
   // firmware's process, for the coming quantum.
   virtual void on_sample(std::size_t /*mcu*/, std::size_t /*device*/, const sear_link_sample& /*sample*/) {}
@@ -48,8 +49,8 @@ class RunTaps final : public RunTap {
  public:
   void add(RunTap* tap) { taps_.push_back(tap); }
   bool empty() const { return taps_.empty(); }
-  void on_mcu_event(std::size_t mcu, const sear_event& e) override {
-    for (RunTap* t : taps_) t->on_mcu_event(mcu, e);
+  void on_mcu_events(std::size_t mcu, const sear_event* events, std::size_t count) override {
+    for (RunTap* t : taps_) t->on_mcu_events(mcu, events, count);
   }
   void on_sample(std::size_t mcu, std::size_t device, const sear_link_sample& s) override {
     for (RunTap* t : taps_) t->on_sample(mcu, device, s);

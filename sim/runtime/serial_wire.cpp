@@ -94,6 +94,12 @@ uint32_t SerialWire::baud_at(int64_t t_ns) const {
   return baud;
 }
 
+int64_t SerialWire::receiver_baud_until(int64_t t_ns) const {
+  for (const BaudChange& c : bauds_)
+    if (c.from_ns > t_ns) return c.from_ns;
+  return std::numeric_limits<int64_t>::max();
+}
+
 int SerialWire::level_at(int64_t t_ns) const {
   const int mark = inverted_ ? 0 : 1;
   // First frame ending after t: frames are in time order and do not overlap.
@@ -158,6 +164,20 @@ void SerialWire::decode(int64_t known_until_ns) {
           const FrameTimes& t = times(f.baud);
           ready_.push_back(serial_byte{f.start_ns + t.frame_ns, f.baud, f.value, {0, 0, 0}});
           scan_from_ns_ = f.start_ns + t.hunt_again_ns;
+          // The frames after it, while each starts once the receiver hunts again, at the same
+          // rate, before the receiver's next change of rate: the walk above would find each
+          // the same way (the frame before it is over but for its stop bit), so a stream's run
+          // of bytes is read here without it.
+          const int64_t rate_until = receiver_baud_until(f.start_ns);
+          std::size_t k = next + 1;
+          for (; k < frames_.size(); ++k) {
+            const Frame& g = frames_[k];
+            if (g.baud != f.baud || g.start_ns < scan_from_ns_ || g.start_ns >= known_until_ns || g.start_ns >= rate_until)
+              break;
+            ready_.push_back(serial_byte{g.start_ns + t.frame_ns, g.baud, g.value, {0, 0, 0}});
+            scan_from_ns_ = g.start_ns + t.hunt_again_ns;
+          }
+          after = k - 1;  // the last frame read is still on the line
           continue;
         }
       }

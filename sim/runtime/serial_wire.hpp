@@ -73,6 +73,8 @@ class SerialWire {
 
   static void set_baud(std::vector<BaudChange>& list, uint32_t baud, int64_t from_ns);
   uint32_t baud_at(int64_t t_ns) const;
+  // When the receiver's rate in force at t_ns next changes (INT64_MAX: never, so far).
+  int64_t receiver_baud_until(int64_t t_ns) const;
   const FrameTimes& times(uint32_t baud) const;  // of the last rate asked for, kept
   // Up to where the line is known when every frame ending before until_ns has been sent.
   int64_t known_until(int64_t until_ns) const;

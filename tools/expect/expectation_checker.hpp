@@ -41,7 +41,10 @@ class ExpectationChecker final : public RunTap {
   // `scenario` and `project` must outlive the checker and have passed check_scenario().
   ExpectationChecker(const Scenario& scenario, const ProjectDesc& project);
 
-  void on_mcu_event(std::size_t mcu, const sear_event& event) override;
+  void on_mcu_events(std::size_t mcu, const sear_event* events, std::size_t count) override {
+    for (std::size_t i = 0; i < count; ++i) on_mcu_event(mcu, events[i]);
+  }
+  void on_mcu_event(std::size_t mcu, const sear_event& event);
   void on_wire_bytes(std::size_t mcu, std::size_t device, bool from_device, const serial_byte* bytes,
                      std::size_t count) override;
   void on_step(const Simulation& sim) override;

@@ -63,10 +63,12 @@ void BoundedFile::write(std::string_view bytes) {
     return;
   }
   // A text file's writes may hold many lines (a waveform writes half a kilobyte at a time): the
-  // whole lines that fit go in before the note.
+  // whole lines that fit go in before the note. A file with no note (raw bytes, written in
+  // blocks) is filled to its limit, as a byte at a time would fill it.
   std::size_t fits = 0;
-  if (!note_.empty() && room > written_) {
-    const std::size_t cut = bytes.substr(0, static_cast<std::size_t>(room - written_)).rfind('\n');
+  if (room > written_) {
+    const std::string_view within = bytes.substr(0, static_cast<std::size_t>(room - written_));
+    const std::size_t cut = note_.empty() ? within.size() - 1 : within.rfind('\n');
     if (cut != std::string_view::npos) fits = cut + 1;
   }
   spill();

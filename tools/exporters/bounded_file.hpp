@@ -1,6 +1,7 @@
 // An output file that never grows past its limit, so that no firmware can fill the disk through
-// a run's logs: the write that would cross the limit is replaced by a note in the file's own
-// comment syntax, and everything after it is dropped and counted.
+// a run's logs: of the write that would cross the limit, a text file keeps the whole lines that
+// fit and then a note in its own comment syntax, a binary file the bytes that fit; everything
+// after that is dropped and counted.
 #pragma once
 
 #include <cstdint>

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstring>
 
 #include "exporters/digit_pairs.hpp"
 #include "exporters/stdout_text.hpp"
@@ -16,39 +17,52 @@ constexpr std::int64_t kWaveLagNs = (10 * std::int64_t{1000000000} + 299) / 300;
 
 std::string seconds(std::int64_t ns) { return fmt::format("{}.{:09d}", ns / 1000000000, ns % 1000000000); }
 
-// "S.NNNNNNNNN tx hh\n" into `line`, which has room for it. A port at 500 kbaud writes 50 000 of
-// these a simulated second: fmt, even compiled, took a fifth of the simulator's time there, and
-// these few digits by hand a small part of that (the nine below the second, one at a time, were
-// half of it). Times are never negative.
-std::string_view byte_line(char* line, std::int64_t time_ns, bool tx, std::uint8_t value) {
-  static const char hex[] = "0123456789abcdef";
-  char* p = line;
-  auto whole = static_cast<std::uint64_t>(time_ns / 1000000000);
-  auto fraction = static_cast<std::uint64_t>(time_ns % 1000000000);
-  char digits[20];
-  int n = 0;
-  do {
-    digits[n++] = static_cast<char>('0' + whole % 10);
-    whole /= 10;
-  } while (whole);
-  while (n) *p++ = digits[--n];
-  *p++ = '.';
-  const auto nano = static_cast<std::uint32_t>(fraction);
-  *p++ = static_cast<char>('0' + nano / 100000000);
-  two_digits(p, nano / 1000000 % 100);
-  two_digits(p + 2, nano / 10000 % 100);
-  two_digits(p + 4, nano / 100 % 100);
-  two_digits(p + 6, nano % 100);
-  p += 8;
-  *p++ = ' ';
-  *p++ = tx ? 't' : 'r';
-  *p++ = 'x';
-  *p++ = ' ';
-  *p++ = hex[value >> 4];
-  *p++ = hex[value & 15];
-  *p++ = '\n';
-  return {line, static_cast<std::size_t>(p - line)};
-}
+// The lines of a UART log, "S.NNNNNNNNN tx hh\n". A port at 500 kbaud writes 50 000 of these a
+// simulated second: fmt, even compiled, took a fifth of the simulator's time there, and these few
+// digits by hand a small part of that (the nine below the second, one at a time, were half of
+// it). The whole seconds' digits are kept from the line before, as a run of bytes shares them.
+// Times are never negative.
+class ByteLines {
+ public:
+  // Writes the line at p, which has room for kMaxLine more bytes; returns its end.
+  static constexpr std::size_t kMaxLine = 40;
+  char* put(char* p, std::int64_t time_ns, bool tx, std::uint8_t value) {
+    static const char hex[] = "0123456789abcdef";
+    const std::int64_t second = time_ns / 1000000000;
+    if (second != second_) {
+      second_ = second;
+      auto whole = static_cast<std::uint64_t>(second);
+      char digits[20];
+      int n = 0;
+      do {
+        digits[n++] = static_cast<char>('0' + whole % 10);
+        whole /= 10;
+      } while (whole);
+      whole_length_ = 0;
+      while (n) whole_[whole_length_++] = digits[--n];
+      whole_[whole_length_++] = '.';
+    }
+    std::memcpy(p, whole_, sizeof whole_);  // a fixed-size copy, of which the length counts
+    p += whole_length_;
+    const auto nano = static_cast<std::uint32_t>(time_ns % 1000000000);
+    *p++ = static_cast<char>('0' + nano / 100000000);
+    two_digits(p, nano / 1000000 % 100);
+    two_digits(p + 2, nano / 10000 % 100);
+    two_digits(p + 4, nano / 100 % 100);
+    two_digits(p + 6, nano % 100);
+    p += 8;
+    std::memcpy(p, tx ? " tx " : " rx ", 4);
+    p[4] = hex[value >> 4];
+    p[5] = hex[value & 15];
+    p[6] = '\n';
+    return p + 7;
+  }
+
+ private:
+  std::int64_t second_ = -1;
+  char whole_[24] = {};  // up to 20 digits and the point
+  int whole_length_ = 0;
+};
 
 }  // namespace
 
@@ -100,7 +114,9 @@ void McuCapture::console_byte(State& s, std::int64_t time_ns, std::uint8_t byte)
   else if (byte != '\r') s.line.push_back(static_cast<char>(byte));
 }
 
-void McuCapture::on_event(std::size_t mcu, const sear_event& e) { states_[mcu].pending.push_back(e); }
+void McuCapture::on_events(std::size_t mcu, const sear_event* events, std::size_t count) {
+  states_[mcu].pending.insert(states_[mcu].pending.end(), events, events + count);
+}
 
 void McuCapture::on_stop(std::size_t mcu, std::int64_t time_ns) {
   State& s = states_[mcu];
@@ -113,18 +129,38 @@ void McuCapture::write_event(State& s, const sear_event& e) {
       port(s, e.index).text->write(fmt::format("{} baud {}\n", seconds(e.time_ns), e.value));
       break;
     case SEAR_EVENT_UART_TX:
-    case SEAR_EVENT_UART_RX: {
-      const bool tx = e.kind == SEAR_EVENT_UART_TX;
-      PortFiles& p = port(s, e.index);
-      const auto byte = static_cast<char>(e.value);
-      (tx ? p.raw_tx : p.raw_rx)->write(std::string_view(&byte, 1));
-      char line[40];
-      p.text->write(byte_line(line, e.time_ns, tx, static_cast<std::uint8_t>(e.value)));
-      if (tx && e.index == s.mcu.console_uart) console_byte(s, e.time_ns, static_cast<std::uint8_t>(e.value));
+    case SEAR_EVENT_UART_RX:
+      write_bytes(s, &e, 1);
       break;
-    }
     default:
       break;
+  }
+}
+
+// Bytes of one kind on one port, in time order: one write to each of the port's files for as many
+// as fit in a block, where a byte at a time cost two writes and a search for its port.
+void McuCapture::write_bytes(State& s, const sear_event* bytes, std::size_t count) {
+  const bool tx = bytes[0].kind == SEAR_EVENT_UART_TX;
+  PortFiles& p = port(s, bytes[0].index);
+  BoundedFile& raw = *(tx ? p.raw_tx : p.raw_rx);
+  const bool console = tx && bytes[0].index == s.mcu.console_uart;
+  constexpr std::size_t kBlock = 128;
+  char values[kBlock];
+  char text[kBlock * ByteLines::kMaxLine];
+  ByteLines lines;
+  for (std::size_t done = 0; done < count;) {
+    const std::size_t block = std::min(count - done, kBlock);
+    char* end = text;
+    for (std::size_t i = 0; i < block; ++i) {
+      const sear_event& e = bytes[done + i];
+      const auto value = static_cast<std::uint8_t>(e.value);
+      values[i] = static_cast<char>(value);
+      end = lines.put(end, e.time_ns, tx, value);
+      if (console) console_byte(s, e.time_ns, value);
+    }
+    raw.write(std::string_view(values, block));
+    p.text->write(std::string_view(text, static_cast<std::size_t>(end - text)));
+    done += block;
   }
 }
 
@@ -137,14 +173,29 @@ void McuCapture::release(State& s, std::int64_t until_ns) {
   if (!std::is_sorted(s.pending.begin(), s.pending.end(), earlier))
     std::stable_sort(s.pending.begin(), s.pending.end(), earlier);
   const std::int64_t limit = std::min(until_ns, s.stop_ns);
+  // A waveform that shows no byte needs none of them queued: a stream's bytes go to the logs in
+  // runs (a 500 kbaud line brings 50 a millisecond).
+  const bool bytes_shown = s.mcu.waveform_uart_bytes || s.mcu.uart_frames;
   std::size_t n = 0;
-  for (; n < s.pending.size() && s.pending[n].time_ns <= until_ns; ++n) {
-    if (s.pending[n].time_ns > limit) {
-      keep_unsent(s, s.pending[n]);
+  while (n < s.pending.size() && s.pending[n].time_ns <= until_ns) {
+    const sear_event& e = s.pending[n];
+    if (e.time_ns > limit) {
+      keep_unsent(s, e);
+      ++n;
       continue;
     }
-    write_event(s, s.pending[n]);
-    queue_wave(s, s.pending[n]);
+    if (!bytes_shown && (e.kind == SEAR_EVENT_UART_TX || e.kind == SEAR_EVENT_UART_RX)) {
+      std::size_t end = n + 1;
+      while (end < s.pending.size() && s.pending[end].kind == e.kind && s.pending[end].index == e.index &&
+             s.pending[end].time_ns <= limit)
+        ++end;
+      write_bytes(s, &e, end - n);
+      n = end;
+      continue;
+    }
+    write_event(s, e);
+    queue_wave(s, e);
+    ++n;
   }
   s.pending.erase(s.pending.begin(), s.pending.begin() + static_cast<std::ptrdiff_t>(n));
   write_wave(s, std::min(until_ns - kWaveLagNs, s.stop_ns));

@@ -53,7 +53,7 @@ class McuCapture : public McuListener {
   McuCapture(std::string out_dir, std::vector<Mcu> mcus, bool echo, std::uint64_t max_file_bytes);
   ~McuCapture() override;
 
-  void on_event(std::size_t mcu, const sear_event& event) override;
+  void on_events(std::size_t mcu, const sear_event* events, std::size_t count) override;
   void on_stop(std::size_t mcu, std::int64_t time_ns) override;
   // Writes every event stamped at or before now_ns.
   void advance_to(std::int64_t now_ns);
@@ -98,6 +98,7 @@ class McuCapture : public McuListener {
   std::unique_ptr<BoundedFile> open(const std::string& name, const std::string& note);
   PortFiles& port(State& s, int port);
   void write_event(State& s, const sear_event& e);
+  void write_bytes(State& s, const sear_event* bytes, std::size_t count);
   void console_byte(State& s, std::int64_t time_ns, std::uint8_t byte);
   void end_line(State& s, std::int64_t time_ns);
   void release(State& s, std::int64_t until_ns);

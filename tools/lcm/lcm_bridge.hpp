@@ -68,7 +68,10 @@ class LcmBridge : public RunTap {
   void finish();
   const std::string& failure() const { return failure_; }
 
-  void on_mcu_event(std::size_t mcu, const sear_event& event) override;
+  void on_mcu_events(std::size_t mcu, const sear_event* events, std::size_t count) override {
+    for (std::size_t i = 0; i < count; ++i) on_mcu_event(mcu, events[i]);
+  }
+  void on_mcu_event(std::size_t mcu, const sear_event& event);
   void on_sample(std::size_t mcu, std::size_t device, const sear_link_sample& sample) override;
   void on_wire_bytes(std::size_t mcu, std::size_t device, bool from_device, const serial_byte* bytes,
                      std::size_t count) override;

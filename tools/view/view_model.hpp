@@ -58,7 +58,10 @@ class ViewModel final : public RunTap {
   static constexpr std::size_t kWholeStreams = SIZE_MAX;
   static constexpr std::size_t kNoLimit = SIZE_MAX;
 
-  void on_mcu_event(std::size_t mcu, const sear_event& event) override;
+  void on_mcu_events(std::size_t mcu, const sear_event* events, std::size_t count) override {
+    for (std::size_t i = 0; i < count; ++i) on_mcu_event(mcu, events[i]);
+  }
+  void on_mcu_event(std::size_t mcu, const sear_event& event);
   void on_sample(std::size_t mcu, std::size_t device, const sear_link_sample& sample) override;
   void on_chip_cycles(std::size_t mcu, std::uint64_t cycles, std::uint64_t busy) override;
   void on_reading(std::size_t mcu, std::size_t device, std::int64_t time_ns, const double* values,
