@@ -279,6 +279,12 @@ static const struct device_ops kinds[SEAR_INPUT_KIND_END] = {
     [SEAR_INPUT_UART_PINS] = {.init = line_start, .sample = line_take, .next_event = line_next, .run_event = line_edge},
 };
 
+/* The inputs on the SPI bus, in input order, listed once: an MPU-6000's burst is 14 bytes a
+ * millisecond, and asking each of a dozen inputs whether it was on the bus was half of a byte's
+ * cost in the firmware's process. */
+static uint8_t spi_inputs[SEAR_LINK_MAX_INPUTS];
+static uint32_t spi_input_count;
+
 static uint32_t input_count(void) {
   const uint32_t n = link->input_count;
   return n < SEAR_LINK_MAX_INPUTS ? n : SEAR_LINK_MAX_INPUTS;
@@ -307,8 +313,10 @@ static void refresh(uint32_t i, int64_t t_ns) {
 void mcu_devices_init(struct sear_link *the_link) {
   link = the_link;
   for (int pin = 0; pin < SEAR_LINK_PINS; ++pin) pin_device[pin] = MCU_NO_DEVICE;
+  spi_input_count = 0;
   for (uint32_t i = 0; i < input_count(); ++i) {
     const struct sear_link_input *in = &link->inputs[i];
+    if (ops_of(i)->spi_transfer) spi_inputs[spi_input_count++] = (uint8_t)i;
     devices[i].out_level = MCU_FLOATING;
     if (ops_of(i)->init) ops_of(i)->init(&devices[i], in);
     refresh(i, 0);
@@ -358,7 +366,8 @@ void mcu_devices_run_due(int64_t now_ns) {
 int mcu_devices_spi_transfer(uint8_t mosi, uint32_t sck_hz, int64_t t_ns) {
   int miso = -1;
   operation_ns = t_ns;
-  for (uint32_t i = 0; i < input_count(); ++i) {
+  for (uint32_t k = 0; k < spi_input_count; ++k) {
+    const uint32_t i = spi_inputs[k];
     const struct device_ops *ops = ops_of(i);
     if (!ops->spi_transfer) continue;
     const uint32_t cs = link->inputs[i].pins[ops->spi_cs_slot];
