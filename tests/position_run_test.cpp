@@ -125,5 +125,32 @@ TEST_P(PositionRun, CompassImuAndEncodersAgreeWithThePhysics) {
 // Facing east, north-north-west and south-west.
 INSTANTIATE_TEST_SUITE_P(Headings, PositionRun, testing::Values(0.0, 110.0, 225.0));
 
+// The MPU-6000's latched data-ready interrupt at 100 Hz (SMPLRT_DIV 9 of its 1 kHz rate), read
+// and so cleared over SPI (tests/firmware/int_clear_probe.c): the falling INT edge's interrupt
+// runs within the transfer that clears INT, as the chip takes it during the busy-wait on SPIF,
+// never at a later HAL call; every read clears one assertion, and from the end of the part's
+// start-up to 0.5 s at least 30 samples fall due.
+TEST(ImuInterrupt, TheEdgeAReadCausesRunsBeforeTheTransferReturns) {
+  TempDir dir;
+  std::ostringstream p;
+  p << "<project name=\"int_clear\">\n  <run duration=\"0.6\" seed=\"1\"/>\n"
+    << "  <world step=\"0.001\">\n    <terrain type=\"flat\"/>\n  </world>\n"
+    << "  <robot file=\"" << SEAR_ASSET_DIR << "/robots/rover.xml\">\n    <pose x=\"0\" y=\"0\"/>\n"
+    << "    <mcu name=\"main\">\n      <firmware executable=\"" << INT_CLEAR_PROBE << "\"/>\n"
+    << "      <mpu6000 name=\"imu\" cs=\"53\" int=\"63\" pos=\"0 0 0.05\"/>\n"
+    << "    </mcu>\n  </robot>\n</project>\n";
+  const SearRun run = run_sear(dir, p.str());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  unsigned long reads = 0, late = 0, falls = 0;
+  bool found = false;
+  for (const auto& line : lines_of(run.file("rover.main.console.log")))
+    found = found || std::sscanf(line.c_str(), "%*s reads %lu late %lu falls %lu", &reads, &late, &falls) == 3;
+  ASSERT_TRUE(found) << run.file("rover.main.console.log");
+  EXPECT_GE(reads, 30u);
+  EXPECT_LE(reads, 50u);  // 100 Hz over at most 0.5 s
+  EXPECT_EQ(late, 0u);
+  EXPECT_EQ(falls, reads);
+}
+
 }  // namespace
 }  // namespace sear::test

@@ -240,6 +240,15 @@ void mcu_advance_to(int64_t t_ns) {
     if (t_ns > link->clock_ns) link->clock_ns = t_ns;
     return;
   }
+  /* Nothing falls due up to t_ns and no interrupt waits: the loop below would only move the clock
+   * there (next_due_ns is never later than what next needs the slow path, as every HAL call
+   * trusts). An SPI byte or an ADC conversion mostly ends so, and the loop's two looks at every
+   * input cost the MPU-6000's burst a third of its time. */
+  if (link->clock_ns < sear_mcu.next_due_ns && t_ns < sear_mcu.next_due_ns &&
+      !(sear_mcu.irq_enabled && !sear_mcu.in_isr && interrupt_pending())) {
+    if (t_ns > link->clock_ns) link->clock_ns = t_ns;
+    return;
+  }
   sear_mcu.slow_path++;
   for (;;) {
     mcu_service();
