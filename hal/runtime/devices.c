@@ -369,7 +369,7 @@ int mcu_devices_spi_transfer(uint8_t mosi, uint32_t sck_hz, int64_t t_ns) {
   for (uint32_t k = 0; k < spi_input_count; ++k) {
     const uint32_t i = spi_inputs[k];
     const struct device_ops *ops = ops_of(i);
-    if (!ops->spi_transfer) continue;
+    if (!ops->spi_transfer) continue; /* a kind the firmware wrote over since the list was made */
     const uint32_t cs = link->inputs[i].pins[ops->spi_cs_slot];
     if (cs >= SEAR_LINK_PINS || !board_output_low((uint8_t)cs)) continue;
     link->usage.inputs_addressed |= 1u << i;

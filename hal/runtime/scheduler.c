@@ -66,11 +66,14 @@ static int interrupt_pending(void) {
   return mcu_first_pending_pin() >= 0;
 }
 
+/* An interrupt is pending and would run at the next look: interrupts on, no handler running. */
+static int interrupt_waits(void) { return sear_mcu.irq_enabled && !sear_mcu.in_isr && interrupt_pending(); }
+
 void mcu_reschedule(void) {
   int64_t t = sear_mcu.link->quantum_end_ns;
   const int64_t input = earliest_input();
   if (input < t) t = input;
-  if (sear_mcu.irq_enabled && !sear_mcu.in_isr && interrupt_pending()) t = 0;
+  if (interrupt_waits()) t = 0;
   sear_mcu.next_due_ns = t;
 }
 
@@ -236,16 +239,12 @@ void mcu_service(void) {
 
 void mcu_advance_to(int64_t t_ns) {
   struct sear_link *link = sear_mcu.link;
-  if (sear_mcu.exiting) {
-    if (t_ns > link->clock_ns) link->clock_ns = t_ns;
-    return;
-  }
-  /* Nothing falls due up to t_ns and no interrupt waits: the loop below would only move the clock
-   * there (next_due_ns is never later than what next needs the slow path, as every HAL call
-   * trusts). An SPI byte or an ADC conversion mostly ends so, and the loop's two looks at every
-   * input cost the MPU-6000's burst a third of its time. */
-  if (link->clock_ns < sear_mcu.next_due_ns && t_ns < sear_mcu.next_due_ns &&
-      !(sear_mcu.irq_enabled && !sear_mcu.in_isr && interrupt_pending())) {
+  /* Exiting, or nothing falls due up to t_ns and no interrupt waits: the loop below would only
+   * move the clock there (next_due_ns is never later than what next needs the slow path, as every
+   * HAL call trusts). An SPI byte or an ADC conversion mostly ends so, and the loop's two looks at
+   * every input cost the MPU-6000's burst a third of its time. */
+  if (sear_mcu.exiting ||
+      (link->clock_ns < sear_mcu.next_due_ns && t_ns < sear_mcu.next_due_ns && !interrupt_waits())) {
     if (t_ns > link->clock_ns) link->clock_ns = t_ns;
     return;
   }

@@ -159,24 +159,20 @@ void SerialWire::decode(int64_t known_until_ns) {
       if (next < frames_.size()) {
         const Frame& f = frames_[next];
         if (f.start_ns >= scan_from_ns_ && f.start_ns < known_until_ns && baud_at(f.start_ns) == f.baud) {
-          // Its end as the search's (its start edge plus a frame), also for a frame the sender
-          // started late, when the one before it ended.
-          const FrameTimes& t = times(f.baud);
-          ready_.push_back(serial_byte{f.start_ns + t.frame_ns, f.baud, f.value, {0, 0, 0}});
-          scan_from_ns_ = f.start_ns + t.hunt_again_ns;
-          // The frames after it, while each starts once the receiver hunts again, at the same
-          // rate, before the receiver's next change of rate: the walk above would find each
+          // It, and the frames after it while each starts once the receiver hunts again, at the
+          // same rate, before the receiver's next change of rate: the walk above would find each
           // the same way (the frame before it is over but for its stop bit), so a stream's run
-          // of bytes is read here without it.
+          // of bytes is read here without it. Each ends as the search's would (its start edge
+          // plus a frame), also a frame the sender started late, when the one before it ended.
+          const FrameTimes& t = times(f.baud);
           const int64_t rate_until = receiver_baud_until(f.start_ns);
-          std::size_t k = next + 1;
-          for (; k < frames_.size(); ++k) {
+          std::size_t k = next;
+          do {
             const Frame& g = frames_[k];
-            if (g.baud != f.baud || g.start_ns < scan_from_ns_ || g.start_ns >= known_until_ns || g.start_ns >= rate_until)
-              break;
             ready_.push_back(serial_byte{g.start_ns + t.frame_ns, g.baud, g.value, {0, 0, 0}});
             scan_from_ns_ = g.start_ns + t.hunt_again_ns;
-          }
+          } while (++k < frames_.size() && frames_[k].baud == f.baud && frames_[k].start_ns >= scan_from_ns_ &&
+                   frames_[k].start_ns < known_until_ns && frames_[k].start_ns < rate_until);
           after = k - 1;  // the last frame read is still on the line
           continue;
         }

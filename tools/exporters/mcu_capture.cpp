@@ -174,7 +174,7 @@ void McuCapture::release(State& s, std::int64_t until_ns) {
     std::stable_sort(s.pending.begin(), s.pending.end(), earlier);
   const std::int64_t limit = std::min(until_ns, s.stop_ns);
   // A waveform that shows no byte needs none of them queued: a stream's bytes go to the logs in
-  // runs (a 500 kbaud line brings 50 a millisecond).
+  // runs (a 500 kbaud line brings 50 a millisecond), and queue_wave() sees only bytes shown.
   const bool bytes_shown = s.mcu.waveform_uart_bytes || s.mcu.uart_frames;
   std::size_t n = 0;
   while (n < s.pending.size() && s.pending[n].time_ns <= until_ns) {
@@ -206,8 +206,6 @@ void McuCapture::release(State& s, std::int64_t until_ns) {
 // times before the stop bit ends, then carries the data bits from the least significant, then
 // the stop bit (high); each bit's edge rounded to the nanosecond as the HAL rounds the byte's end.
 void McuCapture::queue_wave(State& s, const sear_event& e) {
-  const bool byte = e.kind == SEAR_EVENT_UART_TX || e.kind == SEAR_EVENT_UART_RX;
-  if (byte && !s.mcu.waveform_uart_bytes && !s.mcu.uart_frames) return;  // neither waveform shows it
   s.wave_pending.push(0, e);
   if (!s.mcu.uart_frames || e.index >= SEAR_LINK_UARTS) return;
   std::array<std::int64_t, 10>& before_end = s.wave_before_end[e.index];
