@@ -250,7 +250,7 @@ void probe(const std::map<std::string, std::string>& files, const std::string& m
 std::string world_probe(const std::string& terrain) {
   return R"(<project name="probe">
   <run duration="1" seed="1" trace_rate="10"/>
-  <world gravity="0 0 -9.81" step="0.001" solver_iterations="20">
+  <world gravity="0 0 -9.81" step="0.001" solver="iterative" solver_iterations="20">
     <gps_origin latitude="52.2" longitude="0.12" altitude="10"/>
     <magnetic declination_deg="1" inclination_deg="60" intensity_nt="49000" year="2026"/>
     <material name="grass" friction="0.7" bounce="0"/>

@@ -153,10 +153,11 @@ TEST(MotorGrid, FullForwardWheelReachesItsFreeRunningSpeedInFreeSpace) {
 // it out on its slipping wheels, but nothing may turn non-finite or sink into the ground. While
 // its chassis stays steady (turning under 1 rad/s) a wheel, driven by its motor alone, turns
 // relative to the chassis no faster than its free speed plus the chassis' own turn rate (by
-// which the chassis can turn under a wheel the ground holds). Slack for the solver: QuickStep's
-// 20 iterations leave contacts creeping by about 1 mm/s (terrain_test), 2 mm/s / r here, and the
-// motor row fighting a slipping contact converges to about 1e-3 of its target (measured 0.9e-3
-// at 300 N*m, 500 rpm). Once the chassis whirls, the ground can spin a wheel as it likes.
+// which the chassis can turn under a wheel the ground holds). Slack for the solver, enough for
+// the iterative one too, which the direct default beats: at 20 sweeps it leaves contacts creeping
+// by about 1 mm/s (terrain_test), 2 mm/s / r here, and the motor row fighting a slipping contact
+// converged to about 1e-3 of its target (0.9e-3 at 300 N*m, 500 rpm). Once the chassis whirls,
+// the ground can spin a wheel as it likes.
 TEST(MotorGrid, FullForwardOnTheGroundStaysFiniteAndUnderFreeSpeed) {
   for (double stall : kStallTorques_nm)
     for (double rpm : kFreeSpeeds_rpm) {

@@ -30,17 +30,27 @@ dBodyID dBodyCreate(dWorldID world) {
   return body;
 }
 
-int dWorldQuickStep(dWorldID world, dReal stepsize) {
-  static int (*real)(dWorldID, dReal);
+/* After the real step (`name`, either of ODE's solvers), the NaN at the step asked for. */
+static int broken_step(int (**real)(dWorldID, dReal), const char *name, dWorldID world, dReal stepsize) {
   static void (*set_velocity)(dBodyID, dReal, dReal, dReal);
   static long steps, break_at = -1;
-  if (!real) {
-    look_up(&real, sizeof real, "dWorldQuickStep");
+  if (!set_velocity) {
     look_up(&set_velocity, sizeof set_velocity, "dBodySetLinearVel");
     const char *at = getenv("SEAR_TEST_BREAK_STEP");
     break_at = at ? atol(at) : -1;
   }
-  const int result = real(world, stepsize);
+  if (!*real) look_up(real, sizeof *real, name);
+  const int result = (*real)(world, stepsize);
   if (++steps == break_at && first_body) set_velocity(first_body, NAN, 0, 0);
   return result;
+}
+
+int dWorldStep(dWorldID world, dReal stepsize) {
+  static int (*real)(dWorldID, dReal);
+  return broken_step(&real, "dWorldStep", world, stepsize);
+}
+
+int dWorldQuickStep(dWorldID world, dReal stepsize) {
+  static int (*real)(dWorldID, dReal);
+  return broken_step(&real, "dWorldQuickStep", world, stepsize);
 }

@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 const std::string kBase = R"(<?xml version="1.0"?>
 <project name="values">
   <run duration="5" seed="3" trace_rate="50"/>
-  <world gravity="0 0 -9.81" step="0.001" solver_iterations="20">
+  <world gravity="0 0 -9.81" step="0.001" solver="iterative" solver_iterations="20">
     <gps_origin latitude="52.2" longitude="0.12" altitude="12"/>
     <magnetic declination_deg="0.9"/>
     <material name="rubber" friction="1.0" bounce="0"/>
@@ -91,6 +91,25 @@ TEST(ProjectValues, TheBaseProjectIsValid) {
   EXPECT_TRUE(l.diagnostics.ok()) << l.diagnostics.joined();
   ASSERT_TRUE(l.project.has_value());
   EXPECT_EQ(l.project->world.solver_iterations, 20);
+  EXPECT_EQ(l.project->world.solver, WorldDesc::Solver::Iterative);
+}
+
+// The direct solver unless the world asks for the iterative one, whose sweeps also take the steps
+// the direct one hands over; a solver SEAR does not have is an error on its line.
+TEST(ProjectValues, TheSolverIsDirectUnlessTheWorldAsksForTheIterativeOne) {
+  TempDir dir;
+  const Loaded plain = load(dir, replaced(kBase, R"( solver="iterative" solver_iterations="20")", ""));
+  ASSERT_TRUE(plain.project.has_value()) << plain.diagnostics.joined();
+  EXPECT_EQ(plain.project->world.solver, WorldDesc::Solver::Direct);
+  EXPECT_EQ(plain.project->world.solver_iterations, 20);
+  const Loaded direct = load(dir, replaced(kBase, R"(solver="iterative" solver_iterations="20")",
+                                           R"(solver="direct" solver_iterations="50")"));
+  ASSERT_TRUE(direct.project.has_value()) << direct.diagnostics.joined();
+  EXPECT_EQ(direct.project->world.solver, WorldDesc::Solver::Direct);
+  EXPECT_EQ(direct.project->world.solver_iterations, 50);
+  EXPECT_TRUE(only_error(load(dir, replaced(kBase, R"(solver="iterative")", R"(solver="quick")")),
+                         dir.path() / "project.xml", 4,
+                         {"<world> attribute 'solver': 'quick' is not one of direct, iterative"}));
 }
 
 // One attribute changed to a value that is out of its range; the error names the line and range.

@@ -67,19 +67,12 @@ TEST(RestingObstacle, ARobotPushesASleepingCrateAsOneThatNeverSlept) {
   EXPECT_GT(asleep.crate_after.x() - asleep.crate_before.x(), 0.6);
   EXPECT_GT(awake.crate_after.x() - awake.crate_before.x(), 0.6);
 
-  // Asleep, the crate left the solver, and QuickStep's random constraint order (ODE's generator,
-  // seeded by the run) went differently for the rover too: its travel changes as much as with
-  // another seed. So the runs are compared where the crate's sleep could show, against the spread
-  // the seed alone makes in the never-sleeping crate's run.
-  double seed_spread_m = 0;
-  for (std::uint64_t seed = 2; seed <= 5; ++seed) {
-    const Push other = push_crate(false, seed);
-    seed_spread_m = std::max({seed_spread_m, std::abs(other.crate_after.x() - awake.crate_after.x()),
-                              std::abs(other.rover_after.x() - awake.rover_after.x())});
-  }
-  // A sleeping crate counts as one more draw of that order: within twice the spread of four.
-  EXPECT_NEAR(asleep.crate_after.x(), awake.crate_after.x(), 2 * seed_spread_m);
-  EXPECT_NEAR(asleep.rover_after.x(), awake.rover_after.x(), 2 * seed_spread_m);
+  // Sleeping froze the crate where it settled, within what the rest rule lets it still move: 1
+  // cm/s averaged for 0.1 s, 1 mm. Pushed on from there, crate and rover end within that of the
+  // never-sleeping crate's run (0.15 mm measured). A sleeper woken without its ground contacts in
+  // the step it is first touched slides on air for that step: 1.9 mm.
+  EXPECT_NEAR(asleep.crate_after.x(), awake.crate_after.x(), 1e-3);
+  EXPECT_NEAR(asleep.rover_after.x(), awake.rover_after.x(), 1e-3);
 
   // Pushed, the crate rides on the rover's front face: its centre is the two half-lengths (0.15 m
   // each) ahead of the chassis centre, nearer by the contact's give (push force mu m g = 3.9 N times

@@ -60,6 +60,10 @@ void expect_trace_rows(const char* rate_hz, int steps_per_row) {
   EXPECT_EQ(summary["status"], "completed");
   EXPECT_EQ(summary["seed"], 9);
   EXPECT_EQ(summary["steps"], 600);  // 1.2 s / 2 ms
+  // A lone rover's group of bodies, about 33 rows, is the direct solver's every step.
+  EXPECT_EQ(summary["solver_steps"]["direct"], 600);
+  EXPECT_EQ(summary["solver_steps"]["iterative"], 0);
+  EXPECT_EQ(summary["solver_steps"]["retaken"], 0);
   EXPECT_DOUBLE_EQ(summary["sim_time_s"].get<double>(), 600 * 0.002);
   EXPECT_TRUE(summary["mcu_stops"].empty());
 }

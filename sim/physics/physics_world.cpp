@@ -19,14 +19,14 @@ void ensure_ode() { static OdeLibrary library; }
 constexpr int kMaxContacts = 8;  // per geom pair; a wheel on a heightfield or mesh may need several
 
 // Contacts are slightly soft: stiff enough that a 2 kg rover sinks well under a millimetre,
-// soft enough that QuickStep converges in its fixed iteration count.
+// soft enough that the iterative solver converges in its fixed iteration count.
 constexpr double kContactErp = 0.4;
 constexpr double kContactCfm = 1e-5;
 
 // A loose obstacle (a box with a mass) that has rested this long sleeps: ODE leaves it out of the
 // solver and collide_pair() out of collision detection until a contact with something awake, a
 // robot or another obstacle that moves, wakes it. At rest on the terrain it would otherwise cost
-// every step what the rover does (its contact rows in QuickStep, its box against the heightfield).
+// every step what the rover does (its contact rows in the solver, its box against the heightfield).
 // Resting means slower than ODE's default thresholds, 1 cm/s and 0.01 rad/s (a millimetre, or a
 // milliradian, in the 0.1 s the test lasts), averaged over kRestSamples steps so that a box rocking
 // through a turning point does not look still; and for kRestTime_s, long against the time a box
@@ -43,9 +43,10 @@ bool awake(dBodyID body) { return body && dBodyIsEnabled(body); }
 }  // namespace
 
 PhysicsWorld::PhysicsWorld(const WorldDesc& desc, std::uint64_t seed)
-    : materials_(desc.materials), step_s_(desc.step_s) {
+    : materials_(desc.materials), step_s_(desc.step_s), solver_(desc.solver == WorldDesc::Solver::Direct) {
   ensure_ode();
-  // QuickStep shuffles its constraints with ODE's own generator: seeding it makes runs repeat.
+  // The iterative solver shuffles its constraints with ODE's own generator: seeding it makes runs
+  // repeat. The direct one draws nothing.
   dRandSetSeed(static_cast<unsigned long>(seed));
   world_ = dWorldCreate();
   dWorldSetGravity(world_, desc.gravity.x(), desc.gravity.y(), desc.gravity.z());
@@ -154,6 +155,13 @@ double PhysicsWorld::terrain_height(double x, double y, double fallback) const {
   return n > 0 ? hit.pos[2] : fallback;
 }
 
+bool PhysicsWorld::only_woken_or_asleep(dBodyID a, dBodyID b) const {
+  const auto woken = [&](dBodyID body) { return std::find(woken_.begin(), woken_.end(), body) != woken_.end(); };
+  // A pair with a body that was already awake was met in an earlier pass.
+  const auto new_here = [&](dBodyID body) { return !awake(body) || woken(body); };
+  return (woken(a) || woken(b)) && new_here(a) && new_here(b);
+}
+
 void PhysicsWorld::near_callback(void* self, dGeomID a, dGeomID b) {
   static_cast<PhysicsWorld*>(self)->collide_pair(a, b);
 }
@@ -172,8 +180,10 @@ void PhysicsWorld::collide_pair(dGeomID a, dGeomID b) {
   dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
   // A sleeping obstacle against the scenery or another sleeper: ODE would not move either, and
   // its contacts would only cost time. Against something awake the contact is made, and ODE wakes
-  // the sleeper when it gathers the bodies joined to the awake one.
+  // the sleeper when it gathers the bodies joined to the awake one; step() wakes it first, and meets
+  // it again with what it sleeps against, so that it is pushed on the ground, not above it.
   if (!awake(ba) && !awake(bb)) return;
+  if (rewaking_ && !only_woken_or_asleep(ba, bb)) return;
   if (ba && bb && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
 
   dContactGeom geoms[kMaxContacts];
@@ -195,6 +205,9 @@ void PhysicsWorld::collide_pair(dGeomID a, dGeomID b) {
     surface.bounce_vel = 0.1;
   }
   contact_count_ += static_cast<std::size_t>(n);
+  for (dBodyID sleeper : {ba, bb})
+    if (sleeper && !awake(sleeper) && std::find(waking_.begin(), waking_.end(), sleeper) == waking_.end())
+      waking_.push_back(sleeper);
   for (int i = 0; i < n; ++i) {
     dContact contact{};
     contact.surface = surface;
@@ -233,7 +246,18 @@ void PhysicsWorld::step() {
   touches_.clear();
   contact_count_ = 0;
   broadphase_->collide(this, &PhysicsWorld::near_callback);
-  dWorldQuickStep(world_, step_s_);
+  // Sleepers something awake touched: awake now, each met again with the scenery and the other
+  // sleepers it lay against, and those it touches in turn (a pile wakes in one step).
+  while (!waking_.empty()) {
+    woken_.swap(waking_);
+    waking_.clear();
+    for (dBodyID body : woken_) dBodyEnable(body);
+    rewaking_ = true;
+    broadphase_->collide(this, &PhysicsWorld::near_callback);
+    rewaking_ = false;
+  }
+  woken_.clear();
+  solver_.step(world_, dynamic_space_, step_s_);
   dJointGroupEmpty(contacts_);
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "physics/broadphase.hpp"
+#include "physics/constraint_solver.hpp"
 #include "scene/description.hpp"
 
 namespace sear {
@@ -120,13 +121,21 @@ class PhysicsWorld {
   const std::vector<Touch>& touches() const { return touches_; }  // during the last step
   // Contact points handed to the solver in the last step: with the bodies, what a step costs.
   std::size_t contact_count() const { return contact_count_; }
+  // The steps each of ODE's solvers took (see ConstraintSolver).
+  const ConstraintSolver::Counts& solver_counts() const { return solver_.counts(); }
 
  private:
   static void near_callback(void* self, dGeomID a, dGeomID b);
   void collide_pair(dGeomID a, dGeomID b);
+  // In a pass after sleepers woke: whether the pair has one of them and no body awake before.
+  bool only_woken_or_asleep(dBodyID a, dBodyID b) const;
 
   std::vector<Material> materials_;
   double step_s_;
+  ConstraintSolver solver_;
+  std::vector<dBodyID> waking_;  // sleepers touched in this pass
+  std::vector<dBodyID> woken_;   // those woken before the pass that meets them again
+  bool rewaking_ = false;
   dWorldID world_;
   dSpaceID static_space_;
   dSpaceID dynamic_space_;

@@ -28,7 +28,7 @@ inline const Range kGravity = Range::between(-100, 100, "-100..100 m/s^2");
 // 10 us resolves the stiffest contact here; 10 ms is the coarsest step at which a wheel on a
 // 1 ms-scale contact still settles, and the lockstep quantum must stay below a firmware's timers.
 inline const Range kStep = Range::between(1e-5, 0.01, "between 0.00001 and 0.01 s");
-// QuickStep's iterations: at least one; 1000 already costs ~250x the default step.
+// The iterative solver's sweeps: at least one; 1000 already costs ~250x the default step.
 inline const Range kSolverIterations = Range::between(1, 1000, "1..1000");
 inline const Range kLatitude = Range::between(-90, 90, "-90..90 degrees");
 inline const Range kLongitude = Range::between(-180, 180, "-180..180 degrees");

@@ -56,6 +56,8 @@ void read_world(const tinyxml2::XMLElement& element, const std::string& file, Di
   check_at_most_one(element, file, diagnostics, {"terrain", "gps_origin", "magnetic"});
   world.gravity = r.vec3("gravity", world.gravity, ranges::kGravity);
   world.step_s = r.number("step", world.step_s, ranges::kStep, "s");
+  world.solver = r.choice("solver", {"direct", "iterative"}, 0) == 1 ? WorldDesc::Solver::Iterative
+                                                                      : WorldDesc::Solver::Direct;
   world.solver_iterations =
       static_cast<int>(r.whole_number("solver_iterations", world.solver_iterations, ranges::kSolverIterations));
   world.materials.push_back(Material{"default", 0.8, 0.0});

@@ -36,9 +36,9 @@ std::string bob_xml(const std::string& xyz, const std::string& type, const std::
                      xyz, type, limit, dynamics);
 }
 
-// 200 solver iterations, as for a robot at rest (resting_rover_test): at the default 20,
-// QuickStep leaves a 0.2 kg link on a 20 kg cart short of convergence, and its stops and
-// motor rows give (a 40 mrad overshoot past a stop, a servo 7 mrad off under load).
+// The direct solver, the default: the iterative one at its default 20 sweeps leaves a 0.2 kg link
+// on a 20 kg cart short of convergence, and its stops and motor rows give (a 40 mrad overshoot
+// past a stop, a servo 7 mrad off under load).
 struct Rig {
   TempDir dir;
   ProjectDesc project;
@@ -46,7 +46,7 @@ struct Rig {
   Rig(const std::string& urdf_extra, const std::string& mapping_extra = "") {
     const std::string path = (dir.path() / "rig.urdf").string();
     write_text(path, rig_urdf(urdf_extra));
-    project = project_from_xml(project_xml(R"(step="0.001" solver_iterations="200")", "", R"(
+    project = project_from_xml(project_xml(R"(step="0.001")", "", R"(
   <robot name="rig" urdf=")" + path + R"(">
     <wheel name="left" joint="left_wheel_joint" material="rubber"/>
     <wheel name="right" joint="right_wheel_joint" material="rubber"/>
@@ -80,9 +80,9 @@ TEST(UrdfJoint, PassiveHingeFallsOntoItsStopAndStaysThere) {
   EXPECT_GE(lowest, lower - impact_radps * kStep_s) << "overshoot " << lower - lowest;
   EXPECT_LT(lowest, lower + 1e-3);  // it did fall all the way
   // At rest on the stop: the gravity torque m g L cos(1) = 0.16 N*m presses it by torque * h *
-  // CFM / ERP = 8e-10 rad (world ERP 0.2, CFM 1e-6) once the solver has converged; QuickStep's
-  // 200 iterations leave 2e-5 rad of it, the bound 1e-4.
-  EXPECT_NEAR(j.position(), lower, 1e-4);
+  // CFM / ERP = 8e-10 rad (world ERP 0.2, CFM 1e-6), which the direct solver gives (7.95e-10
+  // measured); the bound leaves 2e-10 for the rest of the step's rounding.
+  EXPECT_NEAR(j.position(), lower, 1e-9);
   EXPECT_NEAR(j.rate(), 0.0, 1e-3);
 }
 
@@ -210,8 +210,8 @@ TEST(UrdfJoint, ServoHoldsALoadWithinTheUrdfsEffort) {
     run_for(*rig.sim, 1.0);
     const double q = rig.joint("bob_joint").position();
     // Held to 1 mrad, finer than a hobby servo resolves (a dead band of 4 us of a 1000 us span
-    // over 120 degrees is 8 mrad). SEAR's servo has none; what remains is QuickStep leaving the
-    // joint's motor row short of its target speed under load (1.5e-4 rad measured).
+    // over 120 degrees is 8 mrad). SEAR's servo has none; what remains is the joint's motor row
+    // giving under load as its CFM lets it (1.5e-8 rad measured).
     if (std::string(effort) == "1") EXPECT_NEAR(q, 0.0, 1e-3);
     else EXPECT_NEAR(q, -1.0, 1e-3);
     EXPECT_NEAR(rig.project.robots[0].servos[0].torque_nm, std::min(1.0, std::stod(effort)), 1e-12);
@@ -303,7 +303,7 @@ TEST(UrdfJoint, TraceCarriesEachLiveJointsPositionTheSameEachRun) {
   TempDir dir;
   const std::string urdf = (dir.path() / "rig.urdf").string();
   write_text(urdf, rig_urdf(bob_xml("0 0.15 0", "revolute", R"(<limit lower="-1.0" upper="0.5" effort="1" velocity="20"/>)")));
-  const std::string project = project_xml(R"(step="0.001" solver_iterations="200")", "", R"(
+  const std::string project = project_xml(R"(step="0.001")", "", R"(
   <run duration="1" seed="1" trace_rate="10"/>
   <robot name="rig" urdf=")" + urdf + R"(">
     <wheel name="left" joint="left_wheel_joint"/>

@@ -108,7 +108,7 @@ TEST(UrdfView, LiveLinkIsDrawnWhereItsBodyIs) {
   <joint name="bob_joint" type="revolute"><parent link="base_link"/><child link="bob"/>
     <origin xyz="0 0 0.3"/><axis xyz="1 0 0"/><limit lower="-1" upper="0.5" effort="1" velocity="20"/></joint>
 </robot>)");
-  const ProjectDesc project = project_from_xml(project_xml(R"(step="0.001" solver_iterations="200")", "", R"(
+  const ProjectDesc project = project_from_xml(project_xml(R"(step="0.001")", "", R"(
   <robot name="swing" urdf=")" + urdf + R"(">
     <wheel name="left" joint="left_wheel_joint"/>
     <wheel name="right" joint="right_wheel_joint"/>

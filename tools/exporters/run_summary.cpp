@@ -85,6 +85,8 @@ std::string summary_json(const Simulation& sim, const RunOutcome& o) {
   j["wall_time_s"] = o.wall_time_s;
   j["real_time_factor"] = real_time_factor(sim, o);
   j["steps"] = sim.time_ns() / sim.step_ns();
+  const ConstraintSolver::Counts& solver = sim.physics().solver_counts();
+  j["solver_steps"] = {{"direct", solver.direct}, {"iterative", solver.iterative}, {"retaken", solver.retaken}};
   // Means a step, in microseconds; wall-clock figures like the two above.
   const auto per_step_us = [&](std::int64_t ns) {
     return o.step_wall.steps ? static_cast<double>(ns) * 1e-3 / static_cast<double>(o.step_wall.steps) : 0.0;
