@@ -166,6 +166,29 @@ TEST(Noise, GaussianTailsAreNormal) {
   EXPECT_NEAR(beyond3 / double(n), 0.0027, 0.0007);
 }
 
+TEST(Noise, APairIsTheDrawAndAnIndependentNormalBeside) {
+  const int n = 100000;
+  double sum = 0.0, sum_sq = 0.0, cross = 0.0;
+  int beyond2 = 0;
+  for (int k = 0; k < n; ++k) {
+    double z[2];
+    noise_gaussian_pair(7, static_cast<uint64_t>(k), z);
+    ASSERT_EQ(z[0], noise_gaussian(7, static_cast<uint64_t>(k))) << k;
+    sum += z[1];
+    sum_sq += z[1] * z[1];
+    cross += z[0] * z[1];
+    beyond2 += std::fabs(z[1]) > 2.0;
+  }
+  // The sine branch is N(0, 1) too: the mean's sd is 1/sqrt(n) = 0.0032, the sample sd's
+  // 1/sqrt(2n) = 0.0022, so 0.01 is over 3 of either; P(|z| > 2) = 4.55 % with sd 0.07 %.
+  const double mean = sum / n;
+  EXPECT_NEAR(mean, 0.0, 0.01);
+  EXPECT_NEAR(std::sqrt(sum_sq / n - mean * mean), 1.0, 0.01);
+  EXPECT_NEAR(beyond2 / double(n), 0.0455, 0.003);
+  // And uncorrelated with the cosine branch: the sum / n of independent products has sd 0.0032.
+  EXPECT_NEAR(cross / n, 0.0, 0.015);
+}
+
 TEST(Noise, DrawsAreReproducibleAndUncorrelated) {
   EXPECT_EQ(noise_gaussian(9, 1234), noise_gaussian(9, 1234));
   EXPECT_NE(noise_gaussian(9, 1234), noise_gaussian(9, 1235));

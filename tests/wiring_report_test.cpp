@@ -116,6 +116,16 @@ TEST(WiringReport, APrintfIsSaidOnceOnTheConsoleWithWhereItWent) {
   EXPECT_EQ(count(run.err, note), 1U) << run.err;
 }
 
+TEST(WiringReport, APrintfAfterTheFirstTurnIsToldAtTheNextTenMillisecondMark) {
+  TempDir dir;
+  const SearRun run = run_sear(dir, project(LATE_PRINT_PROBE, kMiswired));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // Printed after delay_ms(25), in the turn [25, 26) ms. The stdout is looked at after the first
+  // turn, then once every 10 ms of sim time (a system call each), so the turn that ends at 30 ms
+  // sees it.
+  EXPECT_EQ(count(run.err, "wrote to its standard output (printf, puts) by sim time 0.030 s"), 1U) << run.err;
+}
+
 TEST(WiringReport, AHalCallBeforeHalInitStopsTheMcuNamingTheCall) {
   TempDir dir;
   const SearRun run = run_sear(dir, project(EARLY_CALL_PROBE, kMiswired));

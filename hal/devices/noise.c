@@ -30,13 +30,25 @@ static double to_unit(uint64_t word) { return (double)(word >> 11) * (1.0 / 9007
 
 double noise_uniform(uint64_t seed, uint64_t index) { return to_unit(noise_hash64(seed ^ UNIFORM_STREAM, index)); }
 
+/* Box-Muller's radius and angle of draw `index`: two stream elements per draw (2k and 2k+1), so
+ * no draw shares a uniform with another. u1 in (0, 1] keeps log() finite. */
+static void polar(uint64_t seed, uint64_t index, double *radius, double *angle) {
+  const double u1 = 1.0 - to_unit(noise_hash64(seed, 2u * index));
+  const double u2 = to_unit(noise_hash64(seed, 2u * index + 1u));
+  *radius = sqrt(-2.0 * log(u1));
+  *angle = TWO_PI * u2;
+}
+
 double noise_gaussian(uint64_t seed, uint64_t index) {
-  /* Two stream elements per draw (2k and 2k+1) so no draw shares a uniform with another. */
-  const uint64_t a = noise_hash64(seed, 2u * index);
-  const uint64_t b = noise_hash64(seed, 2u * index + 1u);
-  /* u1 in (0, 1] keeps log() finite; only the cosine branch is used so every draw costs the
-   * same two words whatever was asked before. */
-  const double u1 = 1.0 - to_unit(a);
-  const double u2 = to_unit(b);
-  return sqrt(-2.0 * log(u1)) * cos(TWO_PI * u2);
+  /* Only the cosine branch, so every draw costs the same two words whatever was asked before. */
+  double radius, angle;
+  polar(seed, index, &radius, &angle);
+  return radius * cos(angle);
+}
+
+void noise_gaussian_pair(uint64_t seed, uint64_t index, double out[2]) {
+  double radius, angle;
+  polar(seed, index, &radius, &angle);
+  out[0] = radius * cos(angle);
+  out[1] = radius * sin(angle);
 }

@@ -21,6 +21,11 @@ double noise_uniform(uint64_t seed, uint64_t index);
  * same value in the same build. */
 double noise_gaussian(uint64_t seed, uint64_t index);
 
+/* Two independent standard normals from draw `index`'s two uniforms, both of Box-Muller's
+ * branches, for half the cost of two draws: out[0] is noise_gaussian(seed, index), out[1] the
+ * sine branch that noise_gaussian leaves unused. */
+void noise_gaussian_pair(uint64_t seed, uint64_t index, double out[2]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -185,7 +185,25 @@ static unsigned value_bits(uint8_t measuring_mode) {
  * the mode's value field does, below its error codes. */
 #define DEVICE_MAX_RANGE_M 80.0
 
-static uint16_t encode_range(const struct lms2xx *s, double r_m, uint64_t draw) {
+/* The noise of a sweep's beams, drawn a Box-Muller pair at a time: beams 2i and 2i + 1 take the
+ * two values of draw (sweep, 2i), which halves the logarithms and square roots a telegram costs.
+ * A pair is drawn only when one of its beams is in range. */
+struct beam_noise {
+  uint64_t seed, sweep_key;
+  int64_t pair; /* the pair held in z, -1 for none */
+  double z[2];
+};
+
+static double beam_noise_of(struct beam_noise *n, uint32_t beam) {
+  const int64_t pair = (int64_t)(beam >> 1);
+  if (n->pair != pair) {
+    noise_gaussian_pair(n->seed, n->sweep_key | (beam & ~1u), n->z);
+    n->pair = pair;
+  }
+  return n->z[beam & 1u];
+}
+
+static uint16_t encode_range(const struct lms2xx *s, double r_m, struct beam_noise *noise, uint32_t beam) {
   const uint8_t units = s->cfg[CFG_UNITS];
   const uint32_t top = (1u << value_bits(s->cfg[CFG_MEASURING_MODE])) - 1u;
   const uint32_t over = top - LMS2XX_CODE_OVER_RANGE_BELOW_TOP;
@@ -193,7 +211,7 @@ static uint16_t encode_range(const struct lms2xx *s, double r_m, uint64_t draw) 
   const double sd = units == LMS2XX_UNITS_MM ? s->config.noise_sd_mm_mode_m : s->config.noise_sd_cm_mode_m;
   if (!(r_m >= 0.0) || !isfinite(r_m) || r_m > DEVICE_MAX_RANGE_M) return (uint16_t)over;
   double noisy = r_m;
-  if (sd > 0.0) noisy += sd * noise_gaussian(s->config.seed, draw);
+  if (sd > 0.0) noisy += sd * beam_noise_of(noise, beam);
   double code = floor(noisy / unit_m + 0.5);
   if (code < 0.0) code = 0.0;
   if (code >= (double)over) return (uint16_t)over;
@@ -217,9 +235,10 @@ static size_t build_scan(struct lms2xx *s, uint8_t *out, int64_t last, int parti
     const uint32_t n = (n_full - 1u - (uint32_t)j) / (uint32_t)p + 1u;
     s->source.measure(s->source.context, sweep_start(s, sweep), (start_deg + (double)j * res / 100.0) * deg,
                       (double)p * res / 100.0 * deg, n, s->scratch_m);
+    /* Draws are keyed by (sweep, beam), so a beam's noise never depends on what was sent. */
+    struct beam_noise noise = {s->config.seed, (uint64_t)sweep << 10, -1, {0.0, 0.0}};
     for (uint32_t m = 0; m < n; ++m) {
-      /* Draws are keyed by (sweep, beam), so a beam's noise never depends on what was sent. */
-      const uint16_t v = encode_range(s, s->scratch_m[m], ((uint64_t)sweep << 10) | m);
+      const uint16_t v = encode_range(s, s->scratch_m[m], &noise, m);
       const uint32_t at = partial ? m : (uint32_t)j + (uint32_t)p * m;
       put16(values + 2u * at, v);
     }

@@ -164,6 +164,7 @@ class McuBridge {
 
   McuUsage usage_;
   void note_usage();  // after each turn
+  std::int64_t stdout_check_ns_ = 0;  // the sim time from which the stdout is looked at again
 
   std::uint32_t can_bitrate_ = 0;
   std::uint32_t can_begins_ = 0;

@@ -17,7 +17,9 @@ struct McuUsage {
   std::array<bool, SEAR_LINK_PINS> waveform{};        // PWM or servo pulses
   std::array<bool, SEAR_LINK_UARTS> uart_begun{};
   sear_link_usage link{};  // the link's block as of the MCU's last turn; link.usage_kept 0: none kept
-  std::optional<std::int64_t> stdout_ns;  // the end of the turn in which it first wrote to its stdout
+  // The end of the turn in which its stdout was first seen written: looked at after the first turn,
+  // then after the first turn of each 10 ms of sim time.
+  std::optional<std::int64_t> stdout_ns;
 };
 
 }  // namespace sear

@@ -320,8 +320,11 @@ RangeReading RangeSensor::nearest_echo(const RayScene& scene, const Eigen::Vecto
   // order). Once an echo is nearer than the next ray's surface can be, no later ray can beat it,
   // and asking each of them of ODE (which a sonar cone's ~200 rays cost every 10 ms) is spared;
   // a moving body could still lie in front of those surfaces, so with any nearby every ray is asked.
-  ray_order_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) ray_order_[i] = static_cast<std::uint32_t>(i);
+  // With none, a ray that meets no static surface (or was not cast) has nothing to strike and is
+  // left out: over open ground that is most of a sonar cone, and sorting it cost as much as a cast.
+  ray_order_.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    if (!candidates.empty() || std::isfinite(bvh_hits_[i].t)) ray_order_.push_back(static_cast<std::uint32_t>(i));
   std::stable_sort(ray_order_.begin(), ray_order_.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return bvh_hits_[a].t < bvh_hits_[b].t; });
   for (const std::uint32_t i : ray_order_) {

@@ -2,7 +2,9 @@
  * project wires the HC-SR04's trig to 22 (ECHO on 23 and ADC channel 0 are read), pin 30 written HIGH without ever
  * being made an OUTPUT (only its pull-up), and a line printed with printf rather than on the UART.
  * The project wires more than the firmware uses (an IR ranger on ADC 3, a GPS on uart1, a compass
- * on I2C, an IMU whose chip select 53 the firmware holds HIGH): no call ever reaches them. WIRING_PROBE_BEFORE_INIT drives a pin, then asks for the clock, before hal_init(). */
+ * on I2C, an IMU whose chip select 53 the firmware holds HIGH): no call ever reaches them.
+ * WIRING_PROBE_BEFORE_INIT drives a pin, then asks for the clock, before hal_init();
+ * WIRING_PROBE_PRINT_AFTER_MS waits that long before its printf. */
 #include <hal/hal.h>
 #include <stdio.h>
 
@@ -20,6 +22,9 @@ int main(void) {
   digital_write(30, HIGH);
   pin_mode(53, OUTPUT); /* SS: an output keeps the SPI master a master; HIGH selects nobody */
   digital_write(53, HIGH);
+#ifdef WIRING_PROBE_PRINT_AFTER_MS
+  delay_ms(WIRING_PROBE_PRINT_AFTER_MS);
+#endif
   printf("printf reaches the host log only\n");
   char line[40];
   for (;;) {
